@@ -1,0 +1,61 @@
+"""ddes: a deterministic discrete-event testbed and teaching kit for ROS 1.
+
+Everything runs on a SimPy kernel in simulated time (integer nanoseconds):
+same scenario + same seed = same trace, byte for byte.
+"""
+
+from ddes import errors
+from ddes.errors import (
+    DdesError,
+    ROSException,
+    ROSInitException,
+    ROSInterruptException,
+    ROSSerializationException,
+    ROSTimeMovedBackwardsException,
+    ServiceException,
+)
+from ddes.graph.node import Node
+from ddes.kernel.trace import Trace, TraceEvent
+from ddes.kernel.world import World
+from ddes.time import (
+    Duration,
+    Rate,
+    RoscppRate,
+    Time,
+    Timer,
+    TimerEvent,
+    WallDuration,
+    WallRate,
+    WallTime,
+    duration_sleep,
+    sleep,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "DdesError",
+    "Duration",
+    "Node",
+    "ROSException",
+    "ROSInitException",
+    "ROSInterruptException",
+    "ROSSerializationException",
+    "ROSTimeMovedBackwardsException",
+    "Rate",
+    "RoscppRate",
+    "ServiceException",
+    "Time",
+    "Timer",
+    "TimerEvent",
+    "Trace",
+    "TraceEvent",
+    "WallDuration",
+    "WallRate",
+    "WallTime",
+    "World",
+    "__version__",
+    "duration_sleep",
+    "errors",
+    "sleep",
+]

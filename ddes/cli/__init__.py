@@ -1,0 +1,1 @@
+"""The ``ddes`` command line: demo, ROS tool subcommands, console."""

@@ -1,0 +1,179 @@
+"""One error tree for all of ddes.
+
+Every error ddes raises derives from :class:`DdesError`.  Where ROS has a
+name for an error, ddes uses it (``ROSException``, ``ServiceException``,
+``ROSBagException`` ...).  Where rospy/genpy raise a builtin exception
+(``TypeError`` for a negative ``Time``, ``ValueError`` for a zero
+``wait_for_service`` timeout, ``KeyError`` for a missing parameter), the ddes
+error also derives from that builtin, so ``except TypeError`` written for
+rospy keeps working.
+
+Deliberate deviation: rospy's ``ROSInterruptException`` is also a
+``KeyboardInterrupt``.  Raising a ``KeyboardInterrupt`` inside a simulation
+would stop pytest and Jupyter kernels, so ddes's is not.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "DdesError",
+    "DdesKeyError",
+    "DdesTypeError",
+    "DdesValueError",
+    "DynamicReconfigureCallbackException",
+    "InvalidMsgSpec",
+    "MsgNotFound",
+    "NodeShutdownError",
+    "ROSActionException",
+    "ROSBagEncryptNotSupportedException",
+    "ROSBagException",
+    "ROSBagFormatException",
+    "ROSBagUnindexedException",
+    "ROSConsoleError",
+    "ROSException",
+    "ROSInitException",
+    "ROSInterruptException",
+    "ROSLaunchException",
+    "ROSMessageException",
+    "ROSNameException",
+    "ROSParamException",
+    "ROSSerializationException",
+    "ROSServiceException",
+    "ROSTimeMovedBackwardsException",
+    "ROSTopicException",
+    "ServiceException",
+    "WorldError",
+]
+
+
+class DdesError(Exception):
+    """Base class of every error raised by ddes."""
+
+
+class DdesTypeError(DdesError, TypeError):
+    """A value of the wrong type (a ``TypeError`` too, as in genpy/rospy)."""
+
+
+class DdesValueError(DdesError, ValueError):
+    """A value out of range or malformed (a ``ValueError`` too)."""
+
+
+class DdesKeyError(DdesError, KeyError):
+    """A missing key, e.g. a parameter (a ``KeyError`` too, as rospy raises)."""
+
+    def __str__(self) -> str:  # KeyError quotes its argument; keep messages readable
+        return str(self.args[0]) if self.args else ""
+
+
+class WorldError(DdesError):
+    """Misuse of the simulation kernel (running backwards, foreign events...)."""
+
+
+# --- rospy's tree (rospy/exceptions.py) -------------------------------------
+
+
+class ROSException(DdesError):
+    """Base exception class for ROS clients (rospy.ROSException)."""
+
+
+class ROSSerializationException(ROSException):
+    """A message field could not be serialized (wrong type or value)."""
+
+
+class ROSInitException(ROSException):
+    """Initialisation is missing or wrong (e.g. time read before init)."""
+
+
+class ROSInterruptException(ROSException):
+    """The operation was interrupted by shutdown (not a KeyboardInterrupt in ddes)."""
+
+
+class ROSTimeMovedBackwardsException(ROSInterruptException):
+    """ROS time jumped backwards during a sleep (rospy semantics).
+
+    ``time`` holds the size of the jump in seconds, as rospy's does.
+    """
+
+    def __init__(self, time: float) -> None:
+        self.time = time
+        super().__init__(f"ROS time moved backwards by {time}s")
+
+
+class NodeShutdownError(ROSException):
+    """A node (or one of its entities) was used after ``shutdown()``."""
+
+
+class ROSNameException(DdesValueError):
+    """An illegal graph resource name (rosgraph.names semantics)."""
+
+
+class ROSParamException(ROSException):
+    """A parameter server operation that ROS rejects (other than a missing key)."""
+
+
+class ROSTopicException(ROSException):
+    """Errors of topics and the rostopic tool (type mismatch, unknown topic...)."""
+
+
+# --- services -----------------------------------------------------------------
+
+
+class ServiceException(DdesError):
+    """A service call failed (rospy.ServiceException).
+
+    As in rospy it is *not* a subclass of ROSException.
+    """
+
+
+class ROSServiceException(ROSException):
+    """Errors of the rosservice tool (unknown service, bad arguments)."""
+
+
+# --- messages (genmsg / genpy) ------------------------------------------------
+
+
+class InvalidMsgSpec(DdesError):
+    """A malformed .msg/.srv/.action definition (genmsg.InvalidMsgSpec)."""
+
+
+class MsgNotFound(DdesError):
+    """No definition for a message or service type on the search path."""
+
+
+class ROSMessageException(DdesError):
+    """Filling or converting a message failed (genpy.MessageException)."""
+
+
+# --- actions, bags, launch, console ----------------------------------------------
+
+
+class ROSActionException(ROSException):
+    """Misuse of actionlib (e.g. a goal of the wrong type)."""
+
+
+class ROSBagException(DdesError):
+    """Base class of bag errors (rosbag.ROSBagException)."""
+
+
+class ROSBagFormatException(ROSBagException):
+    """A bag file is malformed or corrupt."""
+
+
+class ROSBagUnindexedException(ROSBagException):
+    """A bag file has no index (rosbag reindex fixes it)."""
+
+
+class ROSBagEncryptNotSupportedException(ROSBagException):
+    """The bag uses an encryption ddes does not support."""
+
+
+class ROSLaunchException(DdesError):
+    """A launch file is malformed or cannot be resolved."""
+
+
+class ROSConsoleError(DdesError):
+    """A console command failed; the console prints it and keeps running."""
+
+
+class DynamicReconfigureCallbackException(DdesError):
+    """A dynamic_reconfigure callback returned None."""

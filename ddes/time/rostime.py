@@ -1,0 +1,391 @@
+"""ROS time values: Time, Duration and their Wall variants.
+
+The semantics are genpy's (``genpy/rostime.py``), which rospy re-exports:
+
+* values are ``(secs, nsecs)`` canonicalised so that ``0 <= nsecs < 1e9``
+  (floor division; ``secs`` carries the sign);
+* a float ``secs`` is accepted only with ``nsecs == 0`` and is truncated to
+  whole nanoseconds;
+* a negative ``Time`` raises ``TypeError``; a ``Duration`` may be negative;
+* Time+Duration -> Time, Time-Time -> Duration, Time-Duration -> Time;
+  Time+Time, Time*n and friends raise ``TypeError``;
+* ordering across kinds raises ``TypeError``; ``==`` across kinds is False.
+
+``WallTime``/``WallDuration`` follow roscpp's: the same algebra, but a
+separate kind, so mixing wall and ROS values raises ``TypeError``.
+
+Deliberate additions over genpy (documented in docs/time.md): NaN, infinite
+and non-numeric seconds raise a ddes error naming the value instead of the
+builtin's bare message.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any, ClassVar, TypeVar
+
+from ddes.errors import DdesTypeError, DdesValueError
+
+__all__ = [
+    "DAY",
+    "Duration",
+    "HOUR",
+    "MICROSECOND",
+    "MILLISECOND",
+    "MINUTE",
+    "NANOSECOND",
+    "SECOND",
+    "TVal",
+    "Time",
+    "WallDuration",
+    "WallTime",
+]
+
+_NS = 1_000_000_000
+
+_T = TypeVar("_T", bound="TVal")
+
+
+def _split_float(value: Any) -> tuple[int, int]:
+    """Split float seconds the way genpy does: truncate towards zero."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise DdesTypeError(
+            f"time value must be a number of seconds, got {value!r} "
+            f"({type(value).__name__}); pass an int or float"
+        )
+    f = float(value)
+    if math.isnan(f) or math.isinf(f):
+        raise DdesValueError(f"time value must be finite, got {value!r}")
+    secs = int(f)
+    nsecs = int((f - secs) * 1000000000)
+    return secs, nsecs
+
+
+class TVal:
+    """Base of Time and Duration: ``secs``/``nsecs`` with genpy's canonical form."""
+
+    __slots__ = ("secs", "nsecs")
+
+    secs: int
+    nsecs: int
+
+    _kind: ClassVar[str] = "TVal"
+
+    def __init__(self, secs: Any = 0, nsecs: Any = 0) -> None:
+        if isinstance(secs, numbers.Integral) and not isinstance(secs, bool):
+            secs = int(secs)
+            if not isinstance(nsecs, numbers.Integral) or isinstance(nsecs, bool):
+                raise DdesTypeError(
+                    f"nsecs must be an integer number of nanoseconds, got {nsecs!r}"
+                )
+            nsecs = int(nsecs)
+        else:
+            if nsecs != 0:
+                raise DdesValueError(
+                    f"if secs is a float, nsecs cannot be set (secs={secs!r}, "
+                    f"nsecs={nsecs!r}); use {type(self).__name__}(secs) or "
+                    f"{type(self).__name__}(int_secs, nsecs)"
+                )
+            secs, nsecs = _split_float(secs)
+        carry, nsecs = divmod(nsecs, _NS)
+        self.secs = secs + carry
+        self.nsecs = nsecs
+
+    # -- construction -----------------------------------------------------
+    @classmethod
+    def from_sec(cls: type[_T], float_secs: float) -> _T:
+        """Build from float seconds (truncating to whole nanoseconds, as genpy)."""
+        secs, nsecs = _split_float(float_secs)
+        return cls(secs, nsecs)
+
+    @classmethod
+    def from_nsec(cls: type[_T], nsec: int) -> _T:
+        """Build from an integer number of nanoseconds (exact)."""
+        if not isinstance(nsec, numbers.Integral) or isinstance(nsec, bool):
+            raise DdesTypeError(f"nanoseconds must be an int, got {nsec!r}")
+        secs, nsecs = divmod(int(nsec), _NS)
+        return cls(secs, nsecs)
+
+    @classmethod
+    def _from_ns(cls: type[_T], ns: int) -> _T:
+        """Fast internal constructor from canonical integer nanoseconds."""
+        obj = cls.__new__(cls)
+        obj.secs, obj.nsecs = divmod(ns, _NS)
+        return obj
+
+    def set(self, secs: int, nsecs: int) -> None:
+        """Set the fields and canonicalise (genpy ``TVal.set``)."""
+        self.secs = secs
+        self.nsecs = nsecs
+        self.canon()
+
+    def canon(self) -> None:
+        """Bring ``nsecs`` into ``[0, 1e9)`` by carrying into ``secs``."""
+        carry, self.nsecs = divmod(self.nsecs, _NS)
+        self.secs += carry
+
+    # -- conversion -----------------------------------------------------------
+    def to_sec(self) -> float:
+        """Float seconds."""
+        return float(self.secs) + float(self.nsecs) / 1e9
+
+    def to_nsec(self) -> int:
+        """Integer nanoseconds (exact)."""
+        return self.secs * _NS + self.nsecs
+
+    def is_zero(self) -> bool:
+        """True iff both fields are zero."""
+        return self.secs == 0 and self.nsecs == 0
+
+    def __bool__(self) -> bool:
+        return bool(self.secs or self.nsecs)
+
+    def __str__(self) -> str:
+        return str(self.to_nsec())
+
+    def __repr__(self) -> str:
+        return f"ddes.{type(self).__name__}[{self.to_nsec()}]"
+
+    def __hash__(self) -> int:
+        return hash((self.secs, self.nsecs))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.secs, self.nsecs))
+
+    def __copy__(self: _T) -> _T:
+        return type(self)._from_ns(self.to_nsec())
+
+    def __deepcopy__(self: _T, memo: dict[int, Any]) -> _T:
+        return type(self)._from_ns(self.to_nsec())
+
+    # -- comparison -------------------------------------------------------------
+    def _cmp_key(self, other: Any) -> int:
+        if type(other) is not type(self) and not isinstance(other, type(self)._same_kind()):
+            raise DdesTypeError(
+                f"cannot compare {type(self).__name__} with {type(other).__name__} ({other!r})"
+            )
+        return int(other.to_nsec())
+
+    @classmethod
+    def _same_kind(cls) -> type:
+        return cls
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, self._same_kind()):
+            return False
+        return self.secs == other.secs and self.nsecs == other.nsecs  # type: ignore[attr-defined]
+
+    def __ne__(self, other: object) -> bool:
+        return not self.__eq__(other)
+
+    def __lt__(self, other: Any) -> bool:
+        if not isinstance(other, self._same_kind()):
+            return NotImplemented
+        return self.to_nsec() < other.to_nsec()
+
+    def __le__(self, other: Any) -> bool:
+        if not isinstance(other, self._same_kind()):
+            return NotImplemented
+        return self.to_nsec() <= other.to_nsec()
+
+    def __gt__(self, other: Any) -> bool:
+        if not isinstance(other, self._same_kind()):
+            return NotImplemented
+        return self.to_nsec() > other.to_nsec()
+
+    def __ge__(self, other: Any) -> bool:
+        if not isinstance(other, self._same_kind()):
+            return NotImplemented
+        return self.to_nsec() >= other.to_nsec()
+
+
+class _TimeBase(TVal):
+    """Shared algebra of points in time (Time, WallTime)."""
+
+    __slots__ = ()
+
+    _duration: ClassVar[type[_DurationBase]]
+
+    def __init__(self, secs: Any = 0, nsecs: Any = 0) -> None:
+        super().__init__(secs, nsecs)
+        if self.secs < 0:
+            raise DdesTypeError(
+                f"time values must be positive (got {type(self).__name__} with "
+                f"secs={self.secs}, nsecs={self.nsecs}); use a Duration for negative spans"
+            )
+
+    @classmethod
+    def from_seconds(cls: type[_T], float_secs: float) -> _T:
+        """Alias of :meth:`from_sec` (rospy.Time.from_seconds)."""
+        return cls.from_sec(float_secs)
+
+    @classmethod
+    def _from_ns(cls: type[_T], ns: int) -> _T:
+        if ns < 0:
+            raise DdesTypeError(
+                f"time values must be positive (got {ns} ns); the result of this "
+                "arithmetic would be before time zero"
+            )
+        obj = cls.__new__(cls)
+        obj.secs, obj.nsecs = divmod(ns, _NS)
+        return obj
+
+    def __add__(self, other: Any) -> Any:
+        if not isinstance(other, self._duration):
+            return NotImplemented
+        return type(self)._from_ns(self.to_nsec() + other.to_nsec())
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> Any:
+        if isinstance(other, type(self)._same_kind()):
+            return self._duration._from_ns(self.to_nsec() - other.to_nsec())
+        if isinstance(other, self._duration):
+            return type(self)._from_ns(self.to_nsec() - other.to_nsec())
+        return NotImplemented
+
+
+class _DurationBase(TVal):
+    """Shared algebra of spans of time (Duration, WallDuration)."""
+
+    __slots__ = ()
+
+    _time: ClassVar[type[_TimeBase]]
+
+    def __neg__(self: _T) -> _T:
+        return type(self)._from_ns(-self.to_nsec())
+
+    def __pos__(self: _T) -> _T:
+        return self
+
+    def __abs__(self: _T) -> _T:
+        if self.secs >= 0:
+            return self
+        return type(self)._from_ns(-self.to_nsec())
+
+    def __add__(self, other: Any) -> Any:
+        if isinstance(other, self._time):
+            return other.__add__(self)
+        if isinstance(other, type(self)._same_kind()):
+            return type(self)._from_ns(self.to_nsec() + other.to_nsec())
+        return NotImplemented
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> Any:
+        if not isinstance(other, type(self)._same_kind()):
+            return NotImplemented
+        return type(self)._from_ns(self.to_nsec() - other.to_nsec())
+
+    def __mul__(self, val: Any) -> Any:
+        if isinstance(val, numbers.Integral):
+            return type(self)._from_ns(self.to_nsec() * int(val))
+        if isinstance(val, numbers.Real):
+            return type(self).from_sec(self.to_sec() * val)
+        return NotImplemented
+
+    __rmul__ = __mul__
+
+    def __floordiv__(self, val: Any) -> Any:
+        if isinstance(val, type(self)._same_kind()):
+            return int(self.to_sec() // val.to_sec())
+        if isinstance(val, numbers.Real):
+            return type(self).from_sec(self.to_sec() // val)
+        return NotImplemented
+
+    def __truediv__(self, val: Any) -> Any:
+        if isinstance(val, type(self)._same_kind()):
+            return self.to_sec() / val.to_sec()
+        if isinstance(val, numbers.Real):
+            return type(self).from_sec(self.to_sec() / val)
+        return NotImplemented
+
+    def __mod__(self, val: Any) -> Any:
+        if isinstance(val, type(self)._same_kind()):
+            return type(self)._from_ns(self.to_nsec() % val.to_nsec())
+        return NotImplemented
+
+    def __divmod__(self, val: Any) -> Any:
+        if isinstance(val, type(self)._same_kind()):
+            q, r = divmod(self.to_nsec(), val.to_nsec())
+            return q, type(self)._from_ns(r)
+        return NotImplemented
+
+
+class Time(_TimeBase):
+    """A point in ROS time (rospy.Time / genpy.Time)."""
+
+    __slots__ = ()
+
+    @classmethod
+    def _same_kind(cls) -> type:
+        return Time
+
+    @classmethod
+    def now(cls, clock: Any = None) -> Time:
+        """Current ROS time of ``clock`` (a node, a clock or a world).
+
+        rospy's ``Time.now()`` reads a process-wide clock; ddes has none, so
+        the node (or its clock) must be passed.
+        """
+        if clock is None:
+            from ddes.errors import ROSInitException
+
+            raise ROSInitException(
+                "time is not initialized: ddes has no global node; call "
+                "Time.now(node) or node.get_rostime()"
+            )
+        return clock.get_rostime()  # type: ignore[no-any-return]
+
+
+class Duration(_DurationBase):
+    """A span of ROS time (rospy.Duration / genpy.Duration); may be negative."""
+
+    __slots__ = ()
+
+    @classmethod
+    def _same_kind(cls) -> type:
+        return Duration
+
+
+class WallTime(_TimeBase):
+    """A point in wall time (roscpp ros::WallTime); in ddes, kernel time."""
+
+    __slots__ = ()
+
+    @classmethod
+    def _same_kind(cls) -> type:
+        return WallTime
+
+
+class WallDuration(_DurationBase):
+    """A span of wall time (roscpp ros::WallDuration)."""
+
+    __slots__ = ()
+
+    @classmethod
+    def _same_kind(cls) -> type:
+        return WallDuration
+
+
+Time._duration = Duration
+Duration._time = Time
+WallTime._duration = WallDuration
+WallDuration._time = WallTime
+
+# roscpp-style constants (ros/duration.h, ros/time.h)
+NANOSECOND = Duration(0, 1)
+MICROSECOND = Duration(0, 1_000)
+MILLISECOND = Duration(0, 1_000_000)
+SECOND = Duration(1)
+MINUTE = Duration(60)
+HOUR = Duration(3600)
+DAY = Duration(86400)
+
+Time.ZERO = Time(0)  # type: ignore[attr-defined]
+Time.MIN = Time(0, 1)  # type: ignore[attr-defined]
+Time.MAX = Time(2**32 - 1, 999_999_999)  # type: ignore[attr-defined]
+Duration.ZERO = Duration(0)  # type: ignore[attr-defined]
+Duration.MIN = Duration(-(2**31), 0)  # type: ignore[attr-defined]
+Duration.MAX = Duration(2**31 - 1, 999_999_999)  # type: ignore[attr-defined]

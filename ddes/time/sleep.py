@@ -1,0 +1,78 @@
+"""``sleep(d)`` as an event to yield, with rospy's semantics.
+
+* On the kernel clock a negative duration returns at once (a zero-delay
+  event, so the sleeper resumes in the same instant).
+* On a simulated clock it first waits for the first ``/clock`` while time
+  reads zero, then waits until ``start + d``; if time jumps back below the
+  start it fails with :class:`ROSTimeMovedBackwardsException`.
+* roscpp's ``Duration::sleep()`` is :func:`duration_sleep`: the event's
+  value is False if time jumped backwards during the sleep.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator
+from typing import Any
+
+import simpy
+
+from ddes.errors import DdesTypeError, ROSTimeMovedBackwardsException
+from ddes.time.clock import Clock
+from ddes.time.rostime import Duration, TVal, WallDuration
+
+__all__ = ["duration_ns", "duration_sleep", "sleep", "sleep_ns"]
+
+
+def duration_ns(d: Any, what: str = "duration") -> int:
+    """A Duration, WallDuration or float seconds as integer nanoseconds."""
+    if isinstance(d, (Duration, WallDuration)):
+        return d.to_nsec()
+    if isinstance(d, TVal):
+        raise DdesTypeError(f"{what} must be a Duration or seconds, got the point in time {d!r}")
+    return Duration.from_sec(d).to_nsec()
+
+
+def _sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
+    start = clock.now_ns()
+    if start == 0:
+        yield clock.wait_valid()
+        start = clock.now_ns()
+    target = start + d_ns
+    if clock.now_ns() >= target:
+        return False
+    yield clock.wait_until(target, start)
+    return True
+
+
+def sleep_ns(clock: Clock, d_ns: int) -> simpy.Event:
+    """Sleep ``d_ns`` nanoseconds of ``clock`` time (see module docstring)."""
+    if not clock.is_sim:
+        return clock.env.timeout(d_ns if d_ns > 0 else 0)
+    return clock.env.process(_sim_sleep(clock, d_ns))
+
+
+def sleep(clock: Any, duration: Any) -> simpy.Event:
+    """rospy.sleep: ``yield sleep(node, 0.5)`` or ``yield node.sleep(0.5)``."""
+    clock = getattr(clock, "clock", clock)
+    return sleep_ns(clock, duration_ns(duration))
+
+
+def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
+    try:
+        slept = yield from _sim_sleep(clock, d_ns)
+    except ROSTimeMovedBackwardsException:
+        return False
+    return bool(slept)
+
+
+def duration_sleep(clock: Any, duration: Any) -> simpy.Event:
+    """roscpp ``Duration::sleep()``: the event's value is True if it slept.
+
+    Under simulated time it is False when time jumped backwards or no sleep
+    was needed at all, as roscpp reports.
+    """
+    clock = getattr(clock, "clock", clock)
+    d_ns = duration_ns(duration)
+    if not clock.is_sim:
+        return clock.env.timeout(d_ns if d_ns > 0 else 0, True)
+    return clock.env.process(_cpp_sim_sleep(clock, d_ns))
