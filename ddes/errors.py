@@ -95,8 +95,12 @@ class ROSTimeMovedBackwardsException(ROSInterruptException):
     """
 
     def __init__(self, time: float) -> None:
+        # args must be (time,): SimPy re-creates exceptions from their args.
+        super().__init__(time)
         self.time = time
-        super().__init__(f"ROS time moved backwards by {time}s")
+
+    def __str__(self) -> str:
+        return f"ROS time moved backwards by {self.time}s"
 
 
 class NodeShutdownError(ROSException):

@@ -14,9 +14,9 @@ callback may take simulated time (``yield node.sleep(0.1)``).
 
 from __future__ import annotations
 
-import inspect
 import traceback
 from collections.abc import Callable, Generator
+from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
 import simpy
@@ -58,6 +58,9 @@ class Node:
         self.use_sim_time = bool(use_sim_time)
         self.clock: Clock = SimClock(world) if self.use_sim_time else world.kernel_clock
         self._entities: list[Any] = []
+        #: True while callbacks must wait (a callback is running in simulated
+        #: time under a single-threaded spinner); timers then take the slow path.
+        self._busy = False
         self._shutdown = False
         self._shutdown_hooks: list[Callable[[str], Any]] = []
         old = world._nodes.get(self.name)
@@ -117,7 +120,7 @@ class Node:
             if on_done is not None:
                 on_done()
             return
-        if inspect.isgenerator(result):
+        if type(result) is GeneratorType:
             proc = self.world.env.process(self._run_generator(fn, result))
             if on_done is not None:
                 proc.callbacks.append(lambda _p: on_done())

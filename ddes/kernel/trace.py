@@ -66,26 +66,58 @@ def canonical(value: Any) -> Any:
     return repr(value)
 
 
+def _event(raw: tuple[Any, ...]) -> TraceEvent:
+    if len(raw) == 4:
+        return TraceEvent(*raw)
+    return TraceEvent(raw[0], raw[1], raw[2], dict(zip(raw[3], raw[4:])))
+
+
 class Trace:
     """An append-only list of :class:`TraceEvent` with counters and a digest."""
 
-    __slots__ = ("_events", "counts", "enabled", "_listeners")
+    __slots__ = ("_raw", "_counts", "enabled", "_listeners")
 
     def __init__(self) -> None:
-        self._events: list[TraceEvent] = []
-        self.counts: Counter[str] = Counter()
+        # Plain tuples on the hot path; wrapped in TraceEvent when read.
+        self._raw: list[tuple[int, str, str, dict[str, Any]]] = []
+        self._counts: dict[str, int] = {}
         #: When False, events are counted but not stored (long benchmarks).
         self.enabled = True
         self._listeners: list[Callable[[TraceEvent], None]] = []
 
     def record(self, t: int, kind: str, source: str, details: dict[str, Any] | None = None) -> None:
-        """Append one event (and count it under ``kind``)."""
-        self.counts[kind] += 1
+        """Append one event (stored, or only counted while :attr:`enabled` is False)."""
         if self.enabled:
-            ev = TraceEvent(t, kind, source, details if details is not None else {})
-            self._events.append(ev)
-            for listener in self._listeners:
-                listener(ev)
+            raw = (t, kind, source, details if details is not None else {})
+            self._raw.append(raw)
+            if self._listeners:
+                ev = TraceEvent(*raw)
+                for listener in self._listeners:
+                    listener(ev)
+        else:
+            self._counts[kind] = self._counts.get(kind, 0) + 1
+
+    def record_fast(self, row: tuple[Any, ...]) -> None:
+        """Hot-path form: ``(t, kind, source, keys, *values)``, keys a tuple of names.
+
+        Stored as given; the details dict is built only when the event is read.
+        """
+        if self.enabled:
+            self._raw.append(row)  # type: ignore[arg-type]
+            if self._listeners:
+                ev = _event(row)
+                for listener in self._listeners:
+                    listener(ev)
+        else:
+            kind = row[1]
+            self._counts[kind] = self._counts.get(kind, 0) + 1
+
+    @property
+    def counts(self) -> Counter[str]:
+        """How many events of each kind were recorded (stored or only counted)."""
+        out: Counter[str] = Counter(raw[1] for raw in self._raw)
+        out.update(self._counts)
+        return out
 
     def subscribe(self, listener: Callable[[TraceEvent], None]) -> None:
         """Call ``listener(event)`` for every event recorded from now on."""
@@ -96,18 +128,18 @@ class Trace:
         self._listeners.remove(listener)
 
     def __len__(self) -> int:
-        return len(self._events)
+        return len(self._raw)
 
     def __iter__(self) -> Iterator[TraceEvent]:
-        return iter(self._events)
+        return (_event(raw) for raw in self._raw)
 
     def __getitem__(self, index: int) -> TraceEvent:
-        return self._events[index]
+        return _event(self._raw[index])
 
     @property
     def events(self) -> list[TraceEvent]:
         """All stored events, in the order they happened."""
-        return self._events
+        return [_event(raw) for raw in self._raw]
 
     def filter(
         self,
@@ -116,7 +148,7 @@ class Trace:
         prefix: str | None = None,
     ) -> list[TraceEvent]:
         """Events of a kind (exact), a kind prefix (``"topic."``) and/or a source."""
-        out: Iterable[TraceEvent] = self._events
+        out: Iterable[TraceEvent] = iter(self)
         if kind is not None:
             out = (e for e in out if e.kind == kind)
         if prefix is not None:
@@ -127,7 +159,7 @@ class Trace:
 
     def lines(self) -> Iterator[str]:
         """The canonical JSON line of every event."""
-        for ev in self._events:
+        for ev in self:
             yield ev.to_json()
 
     def digest(self) -> str:
@@ -147,7 +179,7 @@ class Trace:
     def format(self, limit: int | None = None) -> str:
         """A human-readable table: seconds, kind, source, details."""
         rows = []
-        for ev in self._events[:limit]:
+        for ev in self.events[:limit]:
             det = " ".join(f"{k}={canonical(v) if not isinstance(v, (int, float, str)) else v}"
                            for k, v in sorted(ev.details.items()))
             rows.append(f"{ev.t / 1e9:14.9f}  {ev.kind:<20} {ev.source:<24} {det}")

@@ -33,7 +33,7 @@ from ddes.time.rostime import Duration, Time, WallTime
 if TYPE_CHECKING:
     from ddes.graph.node import Node
 
-__all__ = ["World", "to_ns"]
+__all__ = ["NsEnvironment", "World", "to_ns"]
 
 
 def to_ns(value: Any, what: str = "time") -> int:
@@ -53,6 +53,15 @@ def to_ns(value: Any, what: str = "time") -> int:
     )
 
 
+class NsEnvironment(simpy.Environment):
+    """A SimPy environment whose clock holds integer nanoseconds."""
+
+    @property
+    def now(self) -> int:
+        """Current kernel time, integer nanoseconds."""
+        return self._now  # type: ignore[return-value]
+
+
 class World:
     """A deterministic ROS world on a SimPy kernel.
 
@@ -68,7 +77,7 @@ class World:
             raise DdesTypeError(f"seed must be an int, got {seed!r}")
         self.seed = seed
         #: The SimPy environment; ``env.now`` is integer nanoseconds.
-        self.env = simpy.Environment(initial_time=0)
+        self.env = NsEnvironment(initial_time=0)
         #: The world's random generator (all randomness comes from here).
         self.rng = random.Random(seed)
         #: Every observable event of this world.
@@ -90,7 +99,7 @@ class World:
     @property
     def now(self) -> int:
         """Kernel time in integer nanoseconds."""
-        return self.env.now  # type: ignore[no-any-return]
+        return self.env.now
 
     def time(self) -> Time:
         """Kernel time as a :class:`Time`."""

@@ -80,7 +80,7 @@ class KernelClock(Clock):
     is_sim = False
 
     def now_ns(self) -> int:
-        return self.env.now  # type: ignore[no-any-return]
+        return self.env.now
 
     def get_walltime(self) -> WallTime:
         """Kernel time as a WallTime."""

@@ -115,10 +115,9 @@ class TVal:
         return obj
 
     def set(self, secs: int, nsecs: int) -> None:
-        """Set the fields and canonicalise (genpy ``TVal.set``)."""
+        """Set the fields as given (genpy ``TVal.set``; call :meth:`canon` after)."""
         self.secs = secs
         self.nsecs = nsecs
-        self.canon()
 
     def canon(self) -> None:
         """Bring ``nsecs`` into ``[0, 1e9)`` by carrying into ``secs``."""
@@ -159,16 +158,9 @@ class TVal:
     def __deepcopy__(self: _T, memo: dict[int, Any]) -> _T:
         return type(self)._from_ns(self.to_nsec())
 
-    # -- comparison -------------------------------------------------------------
-    def _cmp_key(self, other: Any) -> int:
-        if type(other) is not type(self) and not isinstance(other, type(self)._same_kind()):
-            raise DdesTypeError(
-                f"cannot compare {type(self).__name__} with {type(other).__name__} ({other!r})"
-            )
-        return int(other.to_nsec())
-
+    # -- comparison ---------------------------------------------------------
     @classmethod
-    def _same_kind(cls) -> type:
+    def _same_kind(cls) -> type[TVal]:
         return cls
 
     def __eq__(self, other: object) -> bool:
@@ -219,6 +211,10 @@ class _TimeBase(TVal):
     def from_seconds(cls: type[_T], float_secs: float) -> _T:
         """Alias of :meth:`from_sec` (rospy.Time.from_seconds)."""
         return cls.from_sec(float_secs)
+
+    def to_time(self) -> float:
+        """Alias of :meth:`to_sec` (genpy.Time.to_time)."""
+        return self.to_sec()
 
     @classmethod
     def _from_ns(cls: type[_T], ns: int) -> _T:
@@ -282,7 +278,7 @@ class _DurationBase(TVal):
         if isinstance(val, numbers.Integral):
             return type(self)._from_ns(self.to_nsec() * int(val))
         if isinstance(val, numbers.Real):
-            return type(self).from_sec(self.to_sec() * val)
+            return type(self).from_sec(self.to_sec() * float(val))
         return NotImplemented
 
     __rmul__ = __mul__
@@ -291,25 +287,26 @@ class _DurationBase(TVal):
         if isinstance(val, type(self)._same_kind()):
             return int(self.to_sec() // val.to_sec())
         if isinstance(val, numbers.Real):
-            return type(self).from_sec(self.to_sec() // val)
+            return type(self).from_sec(self.to_sec() // float(val))
         return NotImplemented
 
     def __truediv__(self, val: Any) -> Any:
         if isinstance(val, type(self)._same_kind()):
             return self.to_sec() / val.to_sec()
         if isinstance(val, numbers.Real):
-            return type(self).from_sec(self.to_sec() / val)
+            return type(self).from_sec(self.to_sec() / float(val))
         return NotImplemented
 
+    # % and divmod go through float seconds, exactly as genpy does.
     def __mod__(self, val: Any) -> Any:
         if isinstance(val, type(self)._same_kind()):
-            return type(self)._from_ns(self.to_nsec() % val.to_nsec())
+            return type(self).from_sec(self.to_sec() % val.to_sec())
         return NotImplemented
 
     def __divmod__(self, val: Any) -> Any:
         if isinstance(val, type(self)._same_kind()):
-            q, r = divmod(self.to_nsec(), val.to_nsec())
-            return q, type(self)._from_ns(r)
+            q, r = divmod(self.to_sec(), val.to_sec())
+            return int(q), type(self).from_sec(r)
         return NotImplemented
 
 
@@ -319,7 +316,7 @@ class Time(_TimeBase):
     __slots__ = ()
 
     @classmethod
-    def _same_kind(cls) -> type:
+    def _same_kind(cls) -> type[TVal]:
         return Time
 
     @classmethod
@@ -345,7 +342,7 @@ class Duration(_DurationBase):
     __slots__ = ()
 
     @classmethod
-    def _same_kind(cls) -> type:
+    def _same_kind(cls) -> type[TVal]:
         return Duration
 
 
@@ -355,7 +352,7 @@ class WallTime(_TimeBase):
     __slots__ = ()
 
     @classmethod
-    def _same_kind(cls) -> type:
+    def _same_kind(cls) -> type[TVal]:
         return WallTime
 
 
@@ -365,7 +362,7 @@ class WallDuration(_DurationBase):
     __slots__ = ()
 
     @classmethod
-    def _same_kind(cls) -> type:
+    def _same_kind(cls) -> type[TVal]:
         return WallDuration
 
 

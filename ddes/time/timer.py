@@ -18,7 +18,10 @@ missed fires.  A backwards jump of a simulated clock restarts the timer at
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, NamedTuple
+from types import GeneratorType
+from typing import TYPE_CHECKING, Any
+
+from simpy.events import Timeout
 
 from ddes.errors import DdesValueError
 from ddes.time.rostime import Duration, Time
@@ -29,15 +32,70 @@ if TYPE_CHECKING:
 
 __all__ = ["Timer", "TimerEvent"]
 
+_NS = 1_000_000_000
+_FIRE_KEYS = ("expected", "real")
 
-class TimerEvent(NamedTuple):
-    """What a timer callback is told (rospy.timer.TimerEvent)."""
 
-    last_expected: Time | None
-    last_real: Time | None
-    current_expected: Time
-    current_real: Time
-    last_duration: float | None
+def _new_time(ns: int) -> Time:
+    t = Time.__new__(Time)
+    t.secs, t.nsecs = divmod(ns, _NS)
+    return t
+
+
+class TimerEvent:
+    """What a timer callback is told (rospy.timer.TimerEvent).
+
+    The Time fields are built on first access (most callbacks never read
+    them), from integer nanoseconds kept by the timer.
+    """
+
+    __slots__ = ("_le", "_lr", "_ce", "_cr", "last_duration")
+
+    def __init__(
+        self,
+        last_expected: Time | int | None,
+        last_real: Time | int | None,
+        current_expected: Time | int,
+        current_real: Time | int,
+        last_duration: float | None,
+    ) -> None:
+        self._le = _ns_or_none(last_expected)
+        self._lr = _ns_or_none(last_real)
+        self._ce = _ns_or_none(current_expected)
+        self._cr = _ns_or_none(current_real)
+        #: Simulated seconds the previous callback took (None on the first call).
+        self.last_duration = last_duration
+
+    @property
+    def last_expected(self) -> Time | None:
+        """When the previous callback should have run (None on the first call)."""
+        return None if self._le is None else _new_time(self._le)
+
+    @property
+    def last_real(self) -> Time | None:
+        """When the previous callback actually ran (None on the first call)."""
+        return None if self._lr is None else _new_time(self._lr)
+
+    @property
+    def current_expected(self) -> Time:
+        """When this callback should have run."""
+        return _new_time(self._ce)  # type: ignore[arg-type]
+
+    @property
+    def current_real(self) -> Time:
+        """When this callback actually runs."""
+        return _new_time(self._cr)  # type: ignore[arg-type]
+
+    def __repr__(self) -> str:
+        return (f"TimerEvent(last_expected={self.last_expected!r}, last_real={self.last_real!r}, "
+                f"current_expected={self.current_expected!r}, current_real={self.current_real!r}, "
+                f"last_duration={self.last_duration!r})")
+
+
+def _ns_or_none(t: Time | int | None) -> int | None:
+    if t is None or isinstance(t, int):
+        return t
+    return t.to_nsec()
 
 
 class Timer:
@@ -72,11 +130,14 @@ class Timer:
         self._reset = reset
         self._alive = True
         self._gen = 0
-        self._last_expected: int | None = None
-        self._last_real: int | None = None
+        self._last_expected_ns: int | None = None
+        self._last_real_ns: int | None = None
         self._last_duration: float | None = None
         self._started = 0
         self._next = 0
+        self._kernel = not self._clock.is_sim
+        self._fire_cb = self._fire
+        self._trace = node.world.trace
         self._source = node.name
         #: Number of times the callback was started.
         self.fires = 0
@@ -101,15 +162,70 @@ class Timer:
     def _arm(self) -> None:
         self._gen += 1
         gen = self._gen
-        ev = self._clock.wait_until(self._next)
-        ev.callbacks.append(lambda _e: self._due(gen))
+        ev: Any
+        if self._kernel:
+            delay = self._next - self._env.now
+            ev = Timeout(self._env, delay if delay > 0 else 0, gen)
+            ev.callbacks.append(self._fire_cb)
+        else:
+            ev = self._clock.wait_until(self._next)
+            ev.callbacks.append(lambda _e: self._fire_gen(gen))
 
     def _on_jump(self, old_ns: int, new_ns: int) -> None:
         if self._alive and new_ns < old_ns:
             self._next = new_ns + self._period
             self._arm()
 
-    def _due(self, gen: int) -> None:
+    def _fire(self, ev: Any) -> None:
+        """Kernel-clock wake-up; the common case runs inline for speed."""
+        node = self._node
+        if ev._value != self._gen or not self._alive:
+            return
+        if self._oneshot or node._busy:
+            self._fire_gen(ev._value)
+            return
+        # Fast path: same steps as _fire_gen -> _run -> _done, without the calls.
+        self._gen += 1
+        now: int = self._env._now  # type: ignore[assignment]
+        nxt = self._next
+        event = TimerEvent.__new__(TimerEvent)
+        event._le = self._last_expected_ns
+        event._lr = self._last_real_ns
+        event._ce = nxt
+        event._cr = now
+        event.last_duration = self._last_duration
+        self.fires += 1
+        self._started = now
+        trace = self._trace
+        if trace.enabled and not trace._listeners:
+            trace._raw.append((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))  # type: ignore[arg-type]
+        else:
+            trace.record_fast((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
+        try:
+            result = self._callback(event)
+        except Exception as exc:  # noqa: BLE001 - same policy as Node._invoke
+            node._callback_error(self._callback, exc)
+            result = None
+        if type(result) is GeneratorType:
+            proc = self._env.process(node._run_generator(self._callback, result))
+            proc.callbacks.append(lambda _p: self._done())
+            return
+        self._last_duration = 0.0
+        self._last_real_ns = now
+        if nxt <= now:
+            self._last_expected_ns = nxt
+            nxt += self._period
+            if nxt + self._period < now:
+                nxt = now
+            self._next = nxt
+        if not self._alive:  # the callback shut the timer down
+            return
+        gen = self._gen + 1
+        self._gen = gen
+        delay = nxt - now
+        Timeout(self._env, delay if delay > 0 else 0, gen).callbacks.append(self._fire_cb)
+
+    def _fire_gen(self, gen: int) -> None:
         if gen != self._gen or not self._alive:
             return
         self._gen += 1  # nothing else may fire until this callback finished
@@ -118,33 +234,25 @@ class Timer:
     def _run(self) -> Any:
         now = self._clock.now_ns()
         self._started = now
-        le, lr = self._last_expected, self._last_real
-        event = TimerEvent(
-            None if le is None else Time._from_ns(le),
-            None if lr is None else Time._from_ns(lr),
-            Time._from_ns(self._next),
-            Time._from_ns(now),
-            self._last_duration,
-        )
+        event = TimerEvent(self._last_expected_ns, self._last_real_ns, self._next, now,
+                           self._last_duration)
         self.fires += 1
-        self._node.world.trace.record(
-            self._env.now, "timer.fire", self._source, {"expected": self._next, "real": now}
-        )
+        self._trace.record_fast((self._env.now, "timer.fire", self._source, _FIRE_KEYS,
+                                 self._next, now))
         return self._callback(event)
 
     def _done(self) -> None:
         now = self._clock.now_ns()
-        started_ns = self._started
-        self._last_duration = (now - started_ns) / 1e9
-        self._last_real = started_ns
+        self._last_duration = (now - self._started) / 1e9
+        self._last_real_ns = self._started
         if self._oneshot:
-            self._last_expected = self._next
+            self._last_expected_ns = self._next
             self.shutdown()
             return
         if not self._alive:
             return
         if self._next <= now:
-            self._last_expected = self._next
+            self._last_expected_ns = self._next
             self._next += self._period
         if self._next + self._period < now:
             self._next = now
