@@ -16,10 +16,12 @@ would stop pytest and Jupyter kernels, so ddes's is not.
 from __future__ import annotations
 
 __all__ = [
+    "DdesAttributeError",
     "DdesError",
     "DdesKeyError",
     "DdesTypeError",
     "DdesValueError",
+    "DeserializationError",
     "DynamicReconfigureCallbackException",
     "InvalidMsgSpec",
     "MsgNotFound",
@@ -56,6 +58,10 @@ class DdesTypeError(DdesError, TypeError):
 
 class DdesValueError(DdesError, ValueError):
     """A value out of range or malformed (a ``ValueError`` too)."""
+
+
+class DdesAttributeError(DdesError, AttributeError):
+    """An unknown attribute, e.g. a message field (an ``AttributeError`` too, as genpy)."""
 
 
 class DdesKeyError(DdesError, KeyError):
@@ -146,6 +152,10 @@ class MsgNotFound(DdesError):
 
 class ROSMessageException(DdesError):
     """Filling or converting a message failed (genpy.MessageException)."""
+
+
+class DeserializationError(ROSMessageException):
+    """Wire bytes are truncated or corrupt (genpy.DeserializationError)."""
 
 
 # --- actions, bags, launch, console ----------------------------------------------
