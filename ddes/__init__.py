@@ -17,6 +17,7 @@ from ddes.errors import (
 from ddes.graph.node import Node
 from ddes.kernel.trace import Trace, TraceEvent
 from ddes.kernel.world import World
+from ddes.msg import get_message_class, get_service_class
 from ddes.time import (
     Duration,
     Rate,
@@ -57,5 +58,7 @@ __all__ = [
     "__version__",
     "duration_sleep",
     "errors",
+    "get_message_class",
+    "get_service_class",
     "sleep",
 ]
