@@ -1,0 +1,314 @@
+"""roslaunch substitution args: ``$(arg x)``, ``$(find pkg)``, ``$(eval ...)`` ...
+
+:func:`resolve_args` follows ``roslaunch/substitution_args.py``:
+
+* The text is scanned for ``$(...)`` with roslaunch's state machine: no
+  escapes, and a ``$`` or ``(`` inside a substitution is an error.  So
+  ``$(find $(arg pkg))`` is rejected exactly as roslaunch rejects it; write
+  ``$(eval find(arg('pkg')))`` instead.
+* ``$(env)``, ``$(optenv)``, ``$(dirname)``, ``$(anon)`` and ``$(arg)`` are
+  replaced first (every occurrence of the same text at once), then
+  ``$(find pkg)`` (so an argument value may hold a ``$(find)``).
+* ``$(eval expr)`` is special: it must be the whole attribute value
+  (``$(eval 1) x`` is an "Unknown substitution command").  ``expr`` is a
+  Python expression; bare names are the launch args (converted like
+  ``type="auto"`` params), shadowed by ``true``/``false``, the ``math``
+  module's names and the functions ``arg()``, ``anon()``, ``dirname()``,
+  ``env()``, ``optenv()`` and ``find()``.  ``__`` is forbidden, as in
+  roslaunch.
+
+Deviations, on purpose (see docs/launch.md):
+
+* ``$(anon id)`` draws from the loader's seeded generator, never the host
+  name, pid or clock; as in roslaunch, the same id gives the same name
+  within one scope and the scopes nested in it.
+* ``$(env)``, ``$(optenv)`` read the environment mapping the loader was
+  given (``os.environ`` by default).
+* ``$(eval)`` offers only side-effect-free builtins (``len``, ``abs``,
+  ``min``, ``max``, ``round``, ``range``, ``str``, ``int`` ...).  roslaunch
+  leaves every builtin reachable, ``open`` included.  This is not a sandbox:
+  launch files are trusted input.
+* ``$(find pkg)/path`` joins ``path`` to the package folder from the ddes
+  :class:`~ddes.rospack.RosPack`; catkin's devel/install spaces do not exist.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import random
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+from ddes.errors import ROSLaunchException
+from ddes.graph.names import anonymous_name
+from ddes.launch.values import convert_value
+from ddes.rospack import PackageNotFound
+
+__all__ = ["COMMANDS", "PackageFinder", "SubstitutionContext", "resolve_args"]
+
+#: The substitution commands, in the order roslaunch lists them in its error message.
+COMMANDS = ("find", "env", "optenv", "dirname", "anon", "arg")
+
+
+class PackageFinder(Protocol):
+    """Anything with ``get_path(name)``, e.g. :class:`ddes.rospack.RosPack`."""
+
+    def get_path(self, name: str) -> Path: ...
+
+
+@dataclass
+class SubstitutionContext:
+    """What substitutions can see: the args in scope, the anon names made so far, the file.
+
+    ``child()`` copies ``args`` and ``anon`` (roslaunch deep-copies its
+    resolve dict for every child scope), so names made or args declared in
+    a ``<group>`` do not leak out of it.  ``anon_source`` is shared by all
+    scopes of one load.
+    """
+
+    rospack: PackageFinder
+    environ: Mapping[str, str]
+    anon_source: random.Random
+    filename: str | None = None
+    args: dict[str, str] = field(default_factory=dict)
+    anon: dict[str, str] = field(default_factory=dict)
+
+    def child(self) -> SubstitutionContext:
+        """A copy for a nested scope (args and anon names copied, the rest shared)."""
+        return SubstitutionContext(self.rospack, self.environ, self.anon_source, self.filename,
+                                   dict(self.args), dict(self.anon))
+
+    # -- the values behind each command ------------------------------------------------
+
+    def arg(self, name: str) -> str:
+        """The value of launch arg ``name``."""
+        try:
+            return self.args[name]
+        except KeyError:
+            raise ROSLaunchException(
+                f"arg '{name}' is not defined. Declare it with <arg name=\"{name}\" "
+                f"default=\"...\"/> or pass {name}:=VALUE (an <arg> declared without "
+                "value or default must be given a value)"
+            ) from None
+
+    def env(self, name: str) -> str:
+        """The environment variable ``name``; an error if unset."""
+        try:
+            return self.environ[name]
+        except KeyError:
+            raise ROSLaunchException(
+                f"environment variable '{name}' is not set; set it, or use "
+                f"$(optenv {name} default)"
+            ) from None
+
+    def optenv(self, name: str, default: str = "") -> str:
+        """The environment variable ``name``, or ``default``."""
+        return self.environ.get(name, default)
+
+    def anon_name(self, id: str) -> str:
+        """The anonymous name for ``id`` in this scope, made on first use."""
+        if id not in self.anon:
+            self.anon[id] = anonymous_name(id, self.anon_source)
+        return self.anon[id]
+
+    def dirname(self) -> str:
+        """The absolute folder of the launch file being read."""
+        if not self.filename:
+            raise ROSLaunchException(
+                "Cannot substitute $(dirname), no file/directory information available. "
+                "Load the launch file from a file, not from a string"
+            )
+        return os.path.abspath(os.path.dirname(self.filename))
+
+    def find(self, pkg: str) -> str:
+        """The folder of package ``pkg``."""
+        try:
+            return str(self.rospack.get_path(pkg))
+        except PackageNotFound as exc:
+            raise ROSLaunchException(f"$(find {pkg}): {exc}") from None
+
+
+def resolve_args(text: str, ctx: SubstitutionContext) -> str:
+    """Resolve every substitution in ``text`` (roslaunch ``resolve_args``)."""
+    if not text or "$" not in text:
+        return text
+    if text.startswith("$(eval ") and text.endswith(")"):
+        return _eval(text[7:-1], ctx)
+    resolved = _resolve_pass(text, ctx, ("env", "optenv", "dirname", "anon", "arg"))
+    return _resolve_pass(resolved, ctx, ("find",))
+
+
+def _resolve_pass(text: str, ctx: SubstitutionContext, active: tuple[str, ...]) -> str:
+    resolved = text
+    for sub in _collect(text):
+        words = [w for w in sub.split(" ") if w]
+        if not words or words[0] not in COMMANDS:
+            hint = (" ($(eval ...) must be the whole attribute value)"
+                    if words and words[0] == "eval" else "")
+            raise ROSLaunchException(
+                f"Unknown substitution command [{sub}]. Valid commands are "
+                f"{list(COMMANDS)}{hint}"
+            )
+        command, params = words[0], words[1:]
+        if command in active:
+            resolved = _APPLY[command](resolved, sub, params, ctx)
+    return resolved
+
+
+def _collect(text: str) -> list[str]:
+    """The bodies of the ``$(...)`` in ``text``, in order (roslaunch ``_collect_args``)."""
+    out, dollar, lparen, inside = 0, 1, 2, 3
+    state = out
+    found: list[str] = []
+    buf: list[str] = []
+    for c in text:
+        if c == "$":
+            if state in (lparen, inside):
+                raise ROSLaunchException(
+                    f"Dollar signs '$' cannot be inside of substitution args [{text}]; "
+                    "roslaunch does not nest substitutions: use $(eval ...) with arg(), "
+                    "find(), env() instead"
+                )
+            state = dollar
+        elif c == "(":
+            if state == dollar:
+                state = lparen
+            elif state != out:
+                raise ROSLaunchException(
+                    f"Invalid left parenthesis '(' in substitution args [{text}]"
+                )
+        elif c == ")":
+            if state == inside:
+                found.append("".join(buf))
+                buf.clear()
+            state = out
+        elif state == dollar:
+            state = out
+        elif state == lparen:
+            state = inside
+        if state == inside:
+            buf.append(c)
+    return found
+
+
+def _simple(value: Callable[[list[str], SubstitutionContext, str], str]) -> Callable[
+        [str, str, list[str], SubstitutionContext], str]:
+    def apply(resolved: str, sub: str, params: list[str], ctx: SubstitutionContext) -> str:
+        return resolved.replace(f"$({sub})", value(params, ctx, sub))
+    return apply
+
+
+def _env_value(params: list[str], ctx: SubstitutionContext, sub: str) -> str:
+    if len(params) != 1:
+        raise ROSLaunchException(f"$(env var) command only accepts one argument [{sub}]")
+    return ctx.env(params[0])
+
+
+def _optenv_value(params: list[str], ctx: SubstitutionContext, sub: str) -> str:
+    if not params:
+        raise ROSLaunchException(f"$(optenv var) must specify an environment variable [{sub}]")
+    return ctx.optenv(params[0], " ".join(params[1:]))
+
+
+def _anon_value(params: list[str], ctx: SubstitutionContext, sub: str) -> str:
+    if not params:
+        raise ROSLaunchException(f"$(anon var) must specify a name [{sub}]")
+    if len(params) > 1:
+        raise ROSLaunchException(f"$(anon var) may only specify one name [{sub}]")
+    return ctx.anon_name(params[0])
+
+
+def _arg_value(params: list[str], ctx: SubstitutionContext, sub: str) -> str:
+    if not params:
+        raise ROSLaunchException(f"$(arg var) must specify a variable name [{sub}]")
+    if len(params) > 1:
+        raise ROSLaunchException(f"$(arg var) may only specify one arg [{sub}]")
+    return ctx.arg(params[0])
+
+
+def _dirname_value(params: list[str], ctx: SubstitutionContext, sub: str) -> str:
+    return ctx.dirname()
+
+
+def _apply_find(resolved: str, sub: str, params: list[str], ctx: SubstitutionContext) -> str:
+    # roslaunch joins the path that follows $(find pkg) (up to the next space) to the
+    # package folder with os.path.join, after dropping one leading separator.
+    if len(params) != 1:
+        raise ROSLaunchException(f"$(find pkg) command only accepts one argument [{sub}]")
+    token = f"$({sub})"
+    i = resolved.find(token)
+    before, after = resolved[:i], resolved[i + len(token):]
+    space = after.find(" ")
+    path, rest = (after, "") if space < 0 else (after[:space], after[space:])
+    path = path.replace("\\", "/")
+    if path.startswith("/"):
+        path = path[1:]
+    pkg_path = ctx.find(params[0])
+    if path:
+        pkg_path = os.path.join(pkg_path, path)
+    return before + pkg_path + rest
+
+
+_APPLY: dict[str, Callable[[str, str, list[str], SubstitutionContext], str]] = {
+    "env": _simple(_env_value),
+    "optenv": _simple(_optenv_value),
+    "anon": _simple(_anon_value),
+    "arg": _simple(_arg_value),
+    "dirname": _simple(_dirname_value),
+    "find": _apply_find,
+}
+
+# -- $(eval ...) ---------------------------------------------------------------------------
+
+_SAFE_BUILTINS: dict[str, Any] = {
+    f.__name__: f
+    for f in (abs, all, any, bool, chr, dict, divmod, enumerate, filter, float, format, int,
+              isinstance, len, list, map, max, min, ord, pow, range, repr, reversed, round,
+              sorted, str, sum, tuple, zip)
+}
+_SAFE_BUILTINS.update({"None": None, "True": True, "False": False})
+
+_MATH: dict[str, Any] = {k: v for k, v in vars(math).items() if not k.startswith("_")}
+
+
+class _EvalNames(Mapping[str, Any]):
+    """Name lookup for $(eval): functions and math first, then the args (auto-converted)."""
+
+    def __init__(self, ctx: SubstitutionContext) -> None:
+        self._ctx = ctx
+        self._functions: dict[str, Any] = {
+            "true": True, "false": False, "True": True, "False": False,
+            "env": ctx.env, "optenv": ctx.optenv, "find": ctx.find,
+            "anon": ctx.anon_name,
+            "arg": lambda name: convert_value(ctx.arg(name), "auto"),
+            "dirname": ctx.dirname,
+        }
+        self._functions.update(_MATH)
+
+    def __getitem__(self, key: str) -> Any:
+        if key in self._functions:
+            return self._functions[key]
+        return convert_value(self._ctx.args[key], "auto")
+
+    def __iter__(self):  # type: ignore[no-untyped-def]
+        return iter(self._functions)
+
+    def __len__(self) -> int:
+        return len(self._functions)
+
+
+def _eval(expr: str, ctx: SubstitutionContext) -> str:
+    if "__" in expr:
+        raise ROSLaunchException("$(eval ...) may not contain double underscore expressions")
+    try:
+        return str(eval(expr, {"__builtins__": _SAFE_BUILTINS}, _EvalNames(ctx)))  # noqa: S307
+    except ROSLaunchException:
+        raise
+    except Exception as exc:  # any error of the user's expression
+        raise ROSLaunchException(
+            f"$(eval {expr}) failed: {type(exc).__name__}: {exc}. Bare names are launch "
+            "args or math functions; use arg('name') to read an arg"
+        ) from None
