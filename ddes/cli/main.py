@@ -3,13 +3,21 @@
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 from collections.abc import Sequence
 
 import ddes
 from ddes.errors import DdesError
 
-__all__ = ["build_parser", "main"]
+__all__ = ["COMMAND_MODULES", "build_parser", "main"]
+
+#: Modules adding a ROS tool subcommand.  Each provides ``register(subparsers)``,
+#: which adds its parser and sets ``func`` (args -> exit code) with
+#: ``set_defaults``; a new tool is one more line here.
+COMMAND_MODULES: tuple[str, ...] = (
+    "ddes.cli.rosmsg",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -23,6 +31,8 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="run the guided demo and print its trace digest")
     demo.add_argument("--seed", type=int, default=0, help="world seed (default 0)")
     demo.add_argument("--until", type=float, default=2.0, help="simulated seconds (default 2)")
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(sub)
     return parser
 
 
@@ -36,6 +46,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             run_demo(seed=args.seed, until=args.until)
             return 0
+        if getattr(args, "func", None) is not None:
+            return int(args.func(args))
         parser.print_help()
         return 0
     except DdesError as exc:

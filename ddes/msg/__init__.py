@@ -13,6 +13,15 @@ module-level functions use the lazily created default registry (bundled
 packages + ``DDES_PACKAGE_PATH``).  See docs/messages.md.
 """
 
+from ddes.msg.convert import (
+    default_keys,
+    dict_to_message,
+    fill_message_args,
+    get_printable_message_args,
+    message_to_dict,
+    message_to_yaml,
+    yaml_to_message,
+)
 from ddes.msg.message import FieldInfo, Message, ServiceDefinition
 from ddes.msg.registry import (
     MessageRegistry,
@@ -30,12 +39,19 @@ __all__ = [
     "Message",
     "MessageRegistry",
     "ServiceDefinition",
+    "default_keys",
     "default_registry",
     "deserialize_message",
+    "dict_to_message",
+    "fill_message_args",
     "get_message_class",
+    "get_printable_message_args",
     "get_service_class",
     "message_class_from_definition",
+    "message_to_dict",
+    "message_to_yaml",
     "parse_definition",
     "serialize_message",
     "strify_message",
+    "yaml_to_message",
 ]
