@@ -62,10 +62,34 @@ def _time_section(world: World, out: Callable[[str], None]) -> None:
     world.process(clock_driver())
 
 
+def _topics_section(world: World, out: Callable[[str], None]) -> None:
+    """Lectures 1-2: talker and listener on /chatter over a lossy, jittery link."""
+    from ddes.msg import get_message_class
+
+    string = get_message_class("std_msgs/String")
+    talker = world.create_node("talker")
+    pub = talker.advertise("chatter", string, queue_size=10)
+    listener = world.create_node("listener")
+    listener.subscribe("chatter", string, lambda m: listener.loginfo("I heard %s", m.data))
+    # 2-20 ms of latency and 10 % loss, drawn from the world's seed: rerun with
+    # the same seed and the same messages are lost at the same instants.
+    world.set_link("/chatter", latency=lambda rng: rng.uniform(0.002, 0.02), loss=0.1)
+
+    def main() -> Generator[Any, Any, None]:
+        rate = talker.create_rate(5)
+        while not talker.is_shutdown():
+            pub.publish(f"hello world {talker.get_time():.1f}")
+            yield rate.sleep()
+
+    talker.process(main())
+
+
 def build_demo(seed: int = 0, out: Callable[[str], None] = print) -> World:
     """Create the demo world (not yet run)."""
     world = World(seed=seed)
+    world.log_output = lambda line, level: out(line)
     _time_section(world, out)
+    _topics_section(world, out)
     return world
 
 
@@ -75,6 +99,9 @@ def run_demo(seed: int = 0, until: float = 2.0, out: Callable[[str], None] = pri
     world = build_demo(seed, out)
     world.run(until=until)
     out("")
+    stats = world.topic_stats("/chatter")
+    out(f"/chatter: published {stats['published']}, lost {stats['lost']}, "
+        f"delivered {stats['delivered']}")
     out(f"simulated {world.now / 1e9:.3f} s; {len(world.trace)} trace events")
     digest = world.digest()
     out(f"trace digest: {digest}")

@@ -1,27 +1,42 @@
-"""Nodes: the owners of every ROS entity.
+"""Nodes: the owners of every ROS entity, and their callback queues.
 
 A node is created through its world (``world.create_node("talker")``) and
-creates its entities (timers, rates, publishers, services, ...).  When it
-shuts down, they go away with it.  ROS time for the node comes from its
-:attr:`clock`: the kernel clock, or a :class:`~ddes.time.clock.SimClock`
-following ``/clock`` when the node uses simulated time.
+creates its entities: publishers, subscribers, timers, rates, services...
+When it shuts down they go away with it.  A second node registering the same
+name shuts the first down, as the ROS master does.
 
-Callbacks (timer fires, and later message deliveries and service
-requests) run through :meth:`Node._invoke`: a plain function runs to
-completion at once; a generator function runs as a SimPy process, so a
-callback may take simulated time (``yield node.sleep(0.1)``).
+Names resolve as rosgraph resolves them (:mod:`ddes.graph.names`), with the
+node's namespace and remappings (``argv=["chatter:=/talk", "_rate:=5"]``
+works as on a ``rosrun`` command line).  ROS time comes from :attr:`clock`:
+the kernel clock, or a :class:`~ddes.time.clock.SimClock` following
+``/clock`` when the node uses simulated time (``/use_sim_time``).
+
+Callbacks and the spinner.  Every callback of a node (message, timer,
+service request) goes through the node's callback queue:
+
+* ``spinner="single"`` (default, roscpp's ``ros::spin()``): one callback at a
+  time, FIFO.  A plain function finishes at once; a generator callback takes
+  simulated time, and while it runs the others wait in the queue (so a full
+  subscriber queue drops its oldest message).
+* ``spinner=N`` (an int, roscpp's ``AsyncSpinner(N)``): up to N callbacks at
+  once; callbacks of the same subscription never overlap.
+* ``spinner="manual"`` (roscpp's ``ros::spinOnce()`` loops): callbacks wait
+  until the node's own loop calls ``yield node.spin_once()``.
 """
 
 from __future__ import annotations
 
 import traceback
-from collections.abc import Callable, Generator
+from collections import deque
+from collections.abc import Callable, Generator, Sequence
 from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
 import simpy
 
-from ddes.errors import DdesTypeError, NodeShutdownError
+from ddes.errors import DdesTypeError, DdesValueError, NodeShutdownError
+from ddes.graph.names import NameResolver, is_legal_base_name, parse_node_args
+from ddes.graph.rosout import DEBUG, ERROR, FATAL, INFO, WARN, NodeLogger
 from ddes.time.clock import Clock, SimClock
 from ddes.time.rate import Rate, RoscppRate, WallRate
 from ddes.time.rostime import Time, WallTime
@@ -29,9 +44,12 @@ from ddes.time.sleep import duration_sleep, sleep
 from ddes.time.timer import Timer, TimerEvent
 
 if TYPE_CHECKING:
+    from ddes.graph.topics import Publisher, Subscriber
     from ddes.kernel.world import World
 
 __all__ = ["Node"]
+
+_UNSET: Any = object()
 
 
 class Node:
@@ -42,34 +60,129 @@ class Node:
     world:
         The owning world.
     name:
-        The node name (``"talker"`` or ``"/ns/talker"``).
+        The node's base name (``"talker"``), or a global name (``"/ns/talker"``).
+    namespace:
+        The node's namespace (like ``ROS_NAMESPACE``); default ``/``.
+    argv:
+        A ``rosrun``-style command line: ``from:=to`` remaps, ``_p:=v`` sets
+        private parameter ``~p``, ``__name:=``/``__ns:=`` rename; the rest is
+        kept in :attr:`argv` (rospy.myargv).
+    remappings:
+        Extra ``{from: to}`` remappings (a launch file's ``<remap>``).
+    anonymous:
+        Append a unique, deterministic suffix to the name (rospy's anonymous).
     use_sim_time:
-        Follow ``/clock`` instead of kernel time.  ``None`` reads the
-        ``/use_sim_time`` parameter when the node starts, as rospy does.
+        Follow ``/clock``; ``None`` reads ``/use_sim_time`` at start, as rospy.
+    spinner:
+        ``"single"``, ``"manual"`` or a number of threads (see module docstring).
+    log_level:
+        The logger level (``"debug"``, ``"info"`` ...).
+    disable_rosout:
+        Do not publish log lines on ``/rosout``.
     """
 
-    def __init__(self, world: World, name: str, *, use_sim_time: bool | None = None) -> None:
+    def __init__(
+        self,
+        world: World,
+        name: str,
+        *,
+        namespace: str = "/",
+        argv: Sequence[str] = (),
+        remappings: dict[str, str] | None = None,
+        anonymous: bool = False,
+        use_sim_time: bool | None = None,
+        spinner: str | int = "single",
+        log_level: str | int = "info",
+        disable_rosout: bool = False,
+    ) -> None:
         if not isinstance(name, str) or not name:
             raise DdesTypeError(f"node name must be a non-empty string, got {name!r}")
+        args = parse_node_args(list(argv))
+        base = args.name or name
+        if anonymous:
+            from ddes.graph.names import anonymous_name
+
+            base = anonymous_name(base, world.next_id("anonymous"))
+        if not base.startswith("/") and not is_legal_base_name(base):
+            raise DdesValueError(
+                f"node name {base!r} must be a legal base name (letters, digits, _ ; no '/'); "
+                "put namespaces in namespace= or use a global name '/ns/name'"
+            )
+        remaps = dict(remappings or {})
+        remaps.update(args.remappings)
+        self._resolver = NameResolver(base, args.ns or namespace, remaps)
         self.world = world
-        self.name = name if name.startswith("/") else "/" + name
+        #: The node's fully-qualified name (its caller id).
+        self.name: str = self._resolver.name
+        #: The command line without ROS arguments (rospy.myargv).
+        self.argv: list[str] = list(args.args)
+        master = world.master
         if use_sim_time is None:
-            use_sim_time = bool(world.get_use_sim_time())
+            use_sim_time = bool(master.params.get_param("/use_sim_time", False))
         self.use_sim_time = bool(use_sim_time)
         self.clock: Clock = SimClock(world) if self.use_sim_time else world.kernel_clock
         self._entities: list[Any] = []
-        #: True while callbacks must wait (a callback is running in simulated
-        #: time under a single-threaded spinner); timers then take the slow path.
-        self._busy = False
+        self._published: list[Publisher] = []
+        self._subscribed: list[Subscriber] = []
         self._shutdown = False
         self._shutdown_hooks: list[Callable[[str], Any]] = []
+        self._shutdown_event: simpy.Event | None = None
+        # callback queue / spinner
+        if spinner == "single":
+            self._threads, self._manual = 1, False
+        elif spinner == "manual":
+            self._threads, self._manual = 1, True
+        elif isinstance(spinner, int) and not isinstance(spinner, bool) and spinner >= 1:
+            self._threads, self._manual = spinner, False
+        else:
+            raise DdesValueError(
+                f"spinner must be 'single', 'manual' or a number of threads >= 1, got {spinner!r}")
+        self.spinner = spinner
+        self._cbq: deque[tuple[Callable[..., Any], tuple[Any, ...], Callable[[], Any] | None, Any]] = deque()
+        self._running = 0
+        #: True while new callbacks must wait in the queue (timers check it).
+        self._busy = self._manual
         old = world._nodes.get(self.name)
         if old is not None:
             old.shutdown("new node registered with same name")
         world._nodes[self.name] = self
         world.record("node.start", self.name, use_sim_time=self.use_sim_time)
+        for key, value in args.params.items():
+            master.params.set_param(self.resolve_name("~" + key), value)
+        self.log = NodeLogger(self, log_level, rosout=not disable_rosout)
+        if self.use_sim_time:
+            from ddes.graph.topics import Subscriber
+            from ddes.msg import get_message_class
 
-    # -- lifecycle --------------------------------------------------------------
+            sim_clock = self.clock
+            assert isinstance(sim_clock, SimClock)
+            Subscriber(self, "/clock", get_message_class("rosgraph_msgs/Clock"),
+                       lambda m: sim_clock.update(m.clock), queue_size=1, internal=True)
+
+    # -- names ----------------------------------------------------------------------------
+    @property
+    def namespace(self) -> str:
+        """The node's namespace, with a trailing ``/``."""
+        return self._resolver.namespace
+
+    def resolve_name(self, name: str) -> str:
+        """Resolve a topic/service/parameter name with this node's remappings."""
+        return self._resolver.resolve(name)
+
+    def get_name(self) -> str:
+        """The fully-qualified node name (rospy.get_name)."""
+        return self.name
+
+    def get_namespace(self) -> str:
+        """The node's namespace (rospy.get_namespace)."""
+        return self._resolver.namespace
+
+    @property
+    def remappings(self) -> dict[str, str]:
+        """The resolved remappings of this node."""
+        return self._resolver.remappings
+
+    # -- lifecycle ------------------------------------------------------------------------
     def is_shutdown(self) -> bool:
         """True once :meth:`shutdown` ran."""
         return self._shutdown
@@ -78,19 +191,35 @@ class Node:
         """Call ``hook(reason)`` when the node shuts down (rospy.on_shutdown)."""
         self._shutdown_hooks.append(hook)
 
+    def signal_shutdown(self, reason: str) -> None:
+        """rospy.signal_shutdown: shut this node down."""
+        self.shutdown(reason)
+
     def shutdown(self, reason: str = "") -> None:
         """Shut the node down: its entities stop and it leaves the world."""
         if self._shutdown:
             return
         self._shutdown = True
+        self._busy = True
         for ent in reversed(list(self._entities)):
             ent.shutdown()
         self._entities.clear()
+        self._cbq.clear()
         if self.world._nodes.get(self.name) is self:
             del self.world._nodes[self.name]
         self.world.record("node.shutdown", self.name, reason=reason)
         for hook in self._shutdown_hooks:
             hook(reason)
+        if self._shutdown_event is not None and not self._shutdown_event.triggered:
+            self._shutdown_event.succeed(reason)
+
+    def spin(self) -> simpy.Event:
+        """Event that fires when the node shuts down (``yield node.spin()``)."""
+        if self._shutdown_event is None:
+            self._shutdown_event = self.world.env.event()
+            if self._shutdown:
+                self._shutdown_event.succeed("")
+        return self._shutdown_event
 
     def _check_alive(self, what: str) -> None:
         if self._shutdown:
@@ -105,27 +234,78 @@ class Node:
         if ent in self._entities:
             self._entities.remove(ent)
 
-    # -- callbacks ----------------------------------------------------------------
+    # -- callbacks and spinning ---------------------------------------------------------------
+    def _update_busy(self) -> None:
+        self._busy = self._manual or self._shutdown or self._running >= self._threads or bool(self._cbq)
+
     def _invoke(
         self,
         fn: Callable[..., Any],
         args: tuple[Any, ...],
         on_done: Callable[[], Any] | None = None,
+        owner: Any = None,
     ) -> None:
-        """Run a callback of this node; a generator result runs as a process."""
+        """Run a callback through the node's queue (at once when the spinner is free)."""
+        if self._busy or (owner is not None and getattr(owner, "_in_progress", False)):
+            self._enqueue(fn, args, on_done, owner)
+        else:
+            self._run_now(fn, args, on_done, owner)
+
+    def _enqueue(self, fn: Callable[..., Any], args: tuple[Any, ...],
+                 on_done: Callable[[], Any] | None = None, owner: Any = None) -> None:
+        if self._shutdown:
+            return
+        self._cbq.append((fn, args, on_done, owner))
+        self._busy = True
+        if not self._manual:
+            self._drain()
+
+    def _drain(self) -> None:
+        q = self._cbq
+        while q and self._running < self._threads and not self._manual and not self._shutdown:
+            index = next((k for k, entry in enumerate(q)
+                          if entry[3] is None or not getattr(entry[3], "_in_progress", False)), -1)
+            if index < 0:
+                break  # every queued callback belongs to a subscription still running
+            entry = q[index]
+            del q[index]
+            self._run_now(*entry)
+        self._update_busy()
+
+    def _run_now(self, fn: Callable[..., Any], args: tuple[Any, ...],
+                 on_done: Callable[[], Any] | None, owner: Any) -> None:
         try:
             result = fn(*args)
-        except Exception as exc:  # noqa: BLE001 - reported, then policy decides
-            self._callback_error(fn, exc)
+        except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
             if on_done is not None:
                 on_done()
+            self._callback_error(fn, exc)
             return
         if type(result) is GeneratorType:
-            proc = self.world.env.process(self._run_generator(fn, result))
-            if on_done is not None:
-                proc.callbacks.append(lambda _p: on_done())
+            self._adopt_generator(fn, result, on_done, owner)
         elif on_done is not None:
             on_done()
+
+    def _adopt_generator(self, fn: Callable[..., Any], gen: Generator[Any, Any, Any],
+                         on_done: Callable[[], Any] | None, owner: Any) -> None:
+        """Run a generator callback as a process; the spinner is busy until it ends."""
+        self._running += 1
+        self._busy = True
+        if owner is not None:
+            owner._in_progress = True
+        proc = self.world.env.process(self._run_generator(fn, gen))
+        proc.callbacks.append(lambda _p: self._finished(on_done, owner))
+
+    def _finished(self, on_done: Callable[[], Any] | None, owner: Any) -> None:
+        self._running -= 1
+        if owner is not None:
+            owner._in_progress = False
+        if on_done is not None:
+            on_done()
+        if self._cbq and not self._manual:
+            self._drain()
+        else:
+            self._update_busy()
 
     def _run_generator(self, fn: Callable[..., Any], gen: Generator[Any, Any, Any]) -> Generator[Any, Any, Any]:
         try:
@@ -146,12 +326,143 @@ class Node:
         if self.world.raise_callback_errors:
             raise exc
 
+    def spin_once(self) -> simpy.Event:
+        """Run the callbacks queued now, one at a time (roscpp ``spinOnce``).
+
+        Meant for ``spinner="manual"`` nodes: ``yield node.spin_once()`` in the
+        node's main loop.  The event fires when they have all finished.
+        """
+        return self.world.env.process(self._spin_once())
+
+    def _spin_once(self) -> Generator[Any, Any, int]:
+        n = len(self._cbq)
+        done = 0
+        for _ in range(n):
+            if not self._cbq or self._shutdown:
+                break
+            fn, args, on_done, _owner = self._cbq.popleft()
+            try:
+                result = fn(*args)
+            except Exception as exc:  # noqa: BLE001
+                if on_done is not None:
+                    on_done()
+                self._callback_error(fn, exc)
+                continue
+            if type(result) is GeneratorType:
+                yield self.world.env.process(self._run_generator(fn, result))
+            if on_done is not None:
+                on_done()
+            done += 1
+        self._update_busy()
+        return done
+
     def process(self, generator: Generator[Any, Any, Any]) -> simpy.Process:
         """Start a process belonging to this node (e.g. its main loop)."""
         self._check_alive("start a process")
         return self.world.env.process(generator)
 
-    # -- time ---------------------------------------------------------------------
+    # -- topics ----------------------------------------------------------------------------------
+    def advertise(self, name: str, data_class: Any, queue_size: int | None = None,
+                  latch: bool = False, **kwargs: Any) -> Publisher:
+        """A :class:`~ddes.graph.topics.Publisher` (rospy.Publisher; roscpp advertise)."""
+        from ddes.graph.topics import Publisher
+
+        return Publisher(self, name, data_class, latch=latch, queue_size=queue_size, **kwargs)
+
+    create_publisher = advertise
+
+    def subscribe(self, name: str, data_class: Any, callback: Callable[..., Any] | None = None,
+                  callback_args: Any = None, queue_size: int | None = None, **kwargs: Any) -> Subscriber:
+        """A :class:`~ddes.graph.topics.Subscriber` (rospy.Subscriber; roscpp subscribe)."""
+        from ddes.graph.topics import Subscriber
+
+        return Subscriber(self, name, data_class, callback, callback_args, queue_size, **kwargs)
+
+    create_subscriber = subscribe
+
+    def wait_for_message(self, topic: str, data_class: Any, timeout: Any = None) -> simpy.Event:
+        """Event whose value is the next message on ``topic`` (rospy.wait_for_message).
+
+        With ``timeout`` (ROS time), the event fails with ROSException when it expires.
+        """
+        from ddes.graph.waiting import wait_for_message
+
+        return wait_for_message(self, topic, data_class, timeout)
+
+    # -- parameters --------------------------------------------------------------------------------
+    def get_param(self, name: str, default: Any = _UNSET) -> Any:
+        """rospy.get_param: KeyError (DdesKeyError) without a default."""
+        key = self.resolve_name(name)
+        params = self.world.master.params
+        return params.get_param(key) if default is _UNSET else params.get_param(key, default)
+
+    def set_param(self, name: str, value: Any) -> None:
+        """rospy.set_param."""
+        self.world.master.params.set_param(self.resolve_name(name), value, caller_id=self.name)
+
+    def has_param(self, name: str) -> bool:
+        """rospy.has_param."""
+        return self.world.master.params.has_param(self.resolve_name(name))
+
+    def delete_param(self, name: str) -> None:
+        """rospy.delete_param: KeyError if missing."""
+        self.world.master.params.delete_param(self.resolve_name(name))
+
+    def search_param(self, name: str) -> str | None:
+        """rospy.search_param: the closest key up the namespace tree, or None."""
+        return self.world.master.params.search_param(self.name, self._resolver.search_key(name))
+
+    def get_param_names(self) -> list[str]:
+        """rospy.get_param_names."""
+        return self.world.master.params.get_param_names()
+
+    # -- logging -----------------------------------------------------------------------------------
+    def logdebug(self, msg: Any, *args: Any) -> None:
+        self.log.log(DEBUG, msg, args)
+
+    def loginfo(self, msg: Any, *args: Any) -> None:
+        self.log.log(INFO, msg, args)
+
+    def logwarn(self, msg: Any, *args: Any) -> None:
+        self.log.log(WARN, msg, args)
+
+    def logerr(self, msg: Any, *args: Any) -> None:
+        self.log.log(ERROR, msg, args)
+
+    def logfatal(self, msg: Any, *args: Any) -> None:
+        self.log.log(FATAL, msg, args)
+
+    def logdebug_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+        self.log.log(DEBUG, msg, args, throttle=period)
+
+    def loginfo_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+        self.log.log(INFO, msg, args, throttle=period)
+
+    def logwarn_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+        self.log.log(WARN, msg, args, throttle=period)
+
+    def logerr_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+        self.log.log(ERROR, msg, args, throttle=period)
+
+    def logfatal_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+        self.log.log(FATAL, msg, args, throttle=period)
+
+    def logdebug_once(self, msg: Any, *args: Any) -> None:
+        self.log.log(DEBUG, msg, args, once=True)
+
+    def loginfo_once(self, msg: Any, *args: Any) -> None:
+        self.log.log(INFO, msg, args, once=True)
+
+    def logwarn_once(self, msg: Any, *args: Any) -> None:
+        self.log.log(WARN, msg, args, once=True)
+
+    def logerr_once(self, msg: Any, *args: Any) -> None:
+        self.log.log(ERROR, msg, args, once=True)
+
+    def logfatal_once(self, msg: Any, *args: Any) -> None:
+        self.log.log(FATAL, msg, args, once=True)
+
+    # -- time ---------------------------------------------------------------------------------
     def get_rostime(self) -> Time:
         """Current ROS time of this node (rospy.get_rostime)."""
         return self.clock.get_rostime()
@@ -207,4 +518,3 @@ class Node:
     def __repr__(self) -> str:
         state = "shutdown" if self._shutdown else "running"
         return f"<Node {self.name} {state}>"
-

@@ -79,7 +79,7 @@ class Trace:
 
     def __init__(self) -> None:
         # Plain tuples on the hot path; wrapped in TraceEvent when read.
-        self._raw: list[tuple[int, str, str, dict[str, Any]]] = []
+        self._raw: list[tuple[Any, ...]] = []
         self._counts: dict[str, int] = {}
         #: When False, events are counted but not stored (long benchmarks).
         self.enabled = True
@@ -103,7 +103,7 @@ class Trace:
         Stored as given; the details dict is built only when the event is read.
         """
         if self.enabled:
-            self._raw.append(row)  # type: ignore[arg-type]
+            self._raw.append(row)
             if self._listeners:
                 ev = _event(row)
                 for listener in self._listeners:

@@ -31,7 +31,9 @@ from ddes.time.clock import KernelClock
 from ddes.time.rostime import Duration, Time, WallTime
 
 if TYPE_CHECKING:
+    from ddes.graph.master import Master
     from ddes.graph.node import Node
+    from ddes.graph.params import ParamServer
 
 __all__ = ["NsEnvironment", "World", "to_ns"]
 
@@ -92,8 +94,13 @@ class World:
         #: Re-raise callback exceptions out of :meth:`run` (default) or only
         #: record them in the trace and :attr:`callback_errors`.
         self.raise_callback_errors = True
-        #: ``/use_sim_time`` until the parameter server exists.
-        self.use_sim_time = False
+        #: How long a new publisher→subscriber connection takes to set up (ns).
+        #: Messages published before it exists are not delivered (as in ROS).
+        self.connect_delay: int = 1_000_000
+        #: Where log lines are printed: ``fn(line, level)``, or None (trace only).
+        self.log_output: Callable[[str, int], Any] | None = None
+        self._links: list[tuple[tuple[str | None, str | None, str | None], Any]] = []
+        self._master: Any = None
 
     # -- time -----------------------------------------------------------------
     @property
@@ -192,9 +199,119 @@ class World:
         """sha256 of the trace: equal digests mean identical runs."""
         return self.trace.digest()
 
+    # -- the ROS graph -----------------------------------------------------------------------
+    @property
+    def master(self) -> Master:
+        """The world's master: registry of nodes, topics, services, and the parameters."""
+        if self._master is None:
+            from ddes.graph.master import Master
+
+            self._master = Master(self)
+        return self._master  # type: ignore[no-any-return]
+
+    @property
+    def params(self) -> ParamServer:
+        """The parameter server (``world.master.params``)."""
+        return self.master.params
+
+    @property
+    def use_sim_time(self) -> bool:
+        """The ``/use_sim_time`` parameter that nodes read when they start."""
+        return bool(self.master.params.get_param("/use_sim_time", False))
+
+    @use_sim_time.setter
+    def use_sim_time(self, value: bool) -> None:
+        self.master.params.set_param("/use_sim_time", bool(value))
+
+    def set_link(self, topic: str | None = None, *, publisher: str | None = None,
+                 subscriber: str | None = None, latency: Any = 0, loss: float = 0.0) -> None:
+        """Set the transport model of matching connections (existing and future).
+
+        ``topic``, ``publisher`` and ``subscriber`` (node names) narrow the
+        match; None matches anything; the most specific rule wins, later rules
+        win ties.  ``latency`` is seconds, a Duration, or ``f(rng)`` drawn per
+        message from the connection's own seeded stream; ``loss`` is a
+        probability.
+        """
+        from ddes.graph.topics import LinkModel
+
+        link = LinkModel(latency, loss)
+        self._links.append(((topic, publisher, subscriber), link))
+        for entry in self.master.topics.values():
+            for pub in entry.publishers:
+                for conn in pub.connections:
+                    conn.set_link(self._link_for(conn.pub, conn.sub))
+
+    def _link_for(self, pub: Any, sub: Any) -> Any:
+        from ddes.graph.topics import LinkModel
+
+        best, best_score = LinkModel(), -1
+        for (topic, pnode, snode), link in self._links:
+            if topic is not None and topic != pub.resolved_name:
+                continue
+            if pnode is not None and pnode != pub.node.name:
+                continue
+            if snode is not None and snode != sub.node.name:
+                continue
+            score = (topic is not None) * 4 + (pnode is not None) * 2 + (snode is not None)
+            if score >= best_score:
+                best, best_score = link, score
+        return best
+
+    def graph_connect(self, pub: Any, sub: Any) -> None:
+        """Connect a publisher to a subscriber after :attr:`connect_delay`."""
+        def connect(_ev: Any) -> None:
+            if pub._closed or sub._closed:
+                return
+            from ddes.graph.topics import Connection
+
+            conn = Connection(self, pub, sub, self._link_for(pub, sub))
+            pub.connections.append(conn)
+            sub.connections.append(conn)
+            pub._rebuild_fanout()
+            self.record("topic.connect", sub.node.name, topic=pub.resolved_name,
+                        publisher=pub.node.name, connection=conn.id)
+            if pub.latch and pub._latched is not None:
+                conn.send(pub._latched, pub.seq)
+
+        ev = self.env.timeout(self.connect_delay)
+        ev.callbacks.append(connect)
+
+    def graph_disconnect(self, conn: Any) -> None:
+        """Close a connection (either end went away)."""
+        if conn.closed:
+            return
+        if conn.batchable:
+            conn._sent += conn.pub.seq - conn._seq0
+            conn.batchable = False
+        conn.closed = True
+        if conn in conn.pub.connections:
+            conn.pub.connections.remove(conn)
+            conn.pub._rebuild_fanout()
+        if conn in conn.sub.connections:
+            conn.sub.connections.remove(conn)
+        self.record("topic.disconnect", conn.sub.node.name, topic=conn.pub.resolved_name,
+                    publisher=conn.pub.node.name, connection=conn.id)
+
+    def topic_stats(self, topic: str) -> dict[str, Any]:
+        """Published/sent/lost/received/dropped/delivered counts of a topic and its connections."""
+        entry = self.master.topics.get(topic)
+        if entry is None:
+            from ddes.errors import ROSTopicException
+
+            raise ROSTopicException(f"unknown topic {topic}; known: {sorted(self.master.topics)}")
+        conns = [c for p in entry.publishers for c in p.connections]
+        per = [{"id": c.id, "publisher": c.pub.node.name, "subscriber": c.sub.node.name,
+                "sent": c.sent, "lost": c.lost, "received": c.received, "dropped": c.dropped,
+                "delivered": c.delivered} for c in conns]
+        total = {k: sum(int(c[k]) for c in per)  # type: ignore[call-overload]
+                 for k in ("sent", "lost", "received", "dropped", "delivered")}
+        return {"topic": topic, "type": entry.type,
+                "published": sum(p.seq for p in entry.publishers), **total, "connections": per}
+
     def get_use_sim_time(self) -> bool:
         """The ``/use_sim_time`` setting that new nodes read."""
-        return bool(self.use_sim_time)
+        return self.use_sim_time
 
     # -- nodes ------------------------------------------------------------------
     def create_node(self, name: str, **kwargs: Any) -> Node:

@@ -198,7 +198,7 @@ class Timer:
         self._started = now
         trace = self._trace
         if trace.enabled and not trace._listeners:
-            trace._raw.append((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))  # type: ignore[arg-type]
+            trace._raw.append((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
         else:
             trace.record_fast((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
         try:

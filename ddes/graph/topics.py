@@ -1,0 +1,486 @@
+"""Topics: publishers, subscribers and the connections between them.
+
+How a message travels (each hop one function, each leaving one trace event):
+
+1. ``Publisher.publish`` builds the message from its arguments (rospy's
+   rules), sets ``header.seq`` as rospy does, and **serializes it once**
+   (``topic.publish``).  The bytes are the snapshot: mutating the message
+   afterwards changes nothing delivered or recorded, and a field of the
+   wrong type fails here with ``ROSSerializationException``, as in ROS.
+2. Each :class:`Connection` (one per publisher/subscriber pair) may lose the
+   message (``topic.drop`` reason ``loss``) and schedules its arrival after
+   the link's latency, never before the previous arrival on the same
+   connection (TCP is FIFO).
+3. On arrival the subscriber deserializes its own copy (as TCPROS does) and
+   queues it for its node's spinner; a full queue **drops the oldest**
+   message (``topic.drop`` reason ``queue_full``).
+4. The node's spinner runs the callback (``topic.deliver``).
+
+Connections appear ``world.connect_delay`` after both ends exist (default
+1 ms, the order of a ROS connection handshake); messages published before
+that are not delivered to that subscriber, as in ROS (ros_comm#176).  A
+latched publisher sends its last message on every new connection.
+"""
+
+from __future__ import annotations
+
+import random
+from collections import deque
+from collections.abc import Callable
+from types import GeneratorType
+from typing import TYPE_CHECKING, Any
+
+from simpy.events import Timeout
+
+from ddes.errors import (
+    DdesTypeError,
+    DdesValueError,
+    ROSException,
+    ROSSerializationException,
+)
+
+if TYPE_CHECKING:
+    from ddes.graph.node import Node
+    from ddes.kernel.world import World
+
+__all__ = ["AnyMsg", "Connection", "LinkModel", "Publisher", "Subscriber", "args_kwds_to_message"]
+
+_PUB_KEYS = ("topic", "seq", "connections")
+_DELIVER_KEYS = ("topic", "publisher", "seq")
+_DROP_KEYS = ("topic", "publisher", "seq", "reason")
+
+
+class AnyMsg:
+    """Subscribe to any type and receive the serialized bytes (rospy.AnyMsg).
+
+    ``_buff`` holds the wire bytes; ``_connection_header`` has ``type``,
+    ``md5sum``, ``message_definition``, ``callerid`` and ``latching``.
+    """
+
+    _type = "*"
+    _md5sum = "*"
+    _full_text = ""
+    _has_header = False
+    __slots__ = ("_buff", "_connection_header")
+
+    def __init__(self, buff: bytes = b"", connection_header: dict[str, str] | None = None) -> None:
+        self._buff = buff
+        self._connection_header = connection_header or {}
+
+    def serialize(self, buff: Any) -> None:
+        buff.write(self._buff)
+
+    def deserialize(self, data: bytes) -> AnyMsg:
+        self._buff = bytes(data)
+        return self
+
+
+def args_kwds_to_message(data_class: Any, args: tuple[Any, ...], kwds: dict[str, Any]) -> Any:
+    """Build a message from publish/call arguments, with rospy's rules and texts."""
+    if args and kwds:
+        raise DdesTypeError("publish() can be called with arguments or keywords, but not both")
+    if len(args) == 1 and hasattr(args[0], "_type") and hasattr(args[0], "_md5sum"):
+        msg = args[0]
+        if msg._type != data_class._type:
+            raise DdesTypeError(f"expected [{data_class._type}] but got [{msg._type}]")
+        return msg
+    if len(args) == 1 and isinstance(args[0], dict) and not kwds and len(data_class.__slots__) != 1:
+        raise DdesTypeError(
+            f"a dict is not a {data_class._type} message: pass {data_class.__name__}(**d) or keywords"
+        )
+    try:
+        return data_class(*args, **kwds)
+    except TypeError as exc:
+        raise DdesTypeError(f"cannot build a {data_class._type} from {args!r} {kwds!r}: {exc}") from None
+
+
+class LinkModel:
+    """Transport of one connection: latency (fixed or drawn) and loss probability.
+
+    ``latency`` is seconds/Duration, or a callable ``f(rng) -> seconds|Duration``
+    drawn per message from the connection's own seeded stream.
+    """
+
+    __slots__ = ("latency", "loss")
+
+    def __init__(self, latency: Any = 0, loss: float = 0.0) -> None:
+        if not callable(latency):
+            _latency_ns(latency)  # validate now
+        if isinstance(loss, bool) or not isinstance(loss, (int, float)) or not 0.0 <= loss <= 1.0:
+            raise DdesValueError(f"loss must be a probability in [0, 1], got {loss!r}")
+        self.latency = latency
+        self.loss = float(loss)
+
+
+def _latency_ns(value: Any) -> int:
+    to_nsec = getattr(value, "to_nsec", None)
+    if to_nsec is not None:
+        ns = int(to_nsec())
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        from ddes.time.rostime import Duration
+
+        ns = Duration.from_sec(value).to_nsec()
+    else:
+        raise DdesTypeError(f"latency must be seconds or a Duration, got {value!r}")
+    if ns < 0:
+        raise DdesValueError(f"latency must be >= 0, got {value!r}")
+    return ns
+
+
+class Connection:
+    """One publisher→subscriber link, with its own FIFO order, loss stream and stats."""
+
+    __slots__ = ("pub", "sub", "id", "world", "_fixed", "_draw", "_loss", "_rng", "_last",
+                 "_sent", "_seq0", "lost", "received", "dropped", "delivered", "closed", "header",
+                 "batchable")
+
+    def __init__(self, world: World, pub: Publisher, sub: Subscriber, link: LinkModel) -> None:
+        self.world = world
+        self.pub = pub
+        self.sub = sub
+        self.id = world.next_id("connection")
+        self._rng: random.Random | None = None
+        self._last = 0
+        self._sent = self.lost = self.received = self.dropped = self.delivered = 0
+        self._seq0 = pub.seq  # batched sends are counted from the publisher's seq
+        self.closed = False
+        #: Fixed latency, no loss, never re-linked: arrivals can share one
+        #: kernel event per publish (FIFO holds trivially).
+        self.batchable = False
+        self.header = {
+            "callerid": pub.node.name,
+            "latching": "1" if pub.latch else "0",
+            "md5sum": pub.md5sum,
+            "message_definition": pub.data_class._full_text,
+            "topic": pub.resolved_name,
+            "type": pub.type,
+        }
+        self._fixed, self._draw, self._loss = 0, None, 0.0
+        self.set_link(link)
+        self.batchable = self._draw is None and not self._loss
+
+    @property
+    def sent(self) -> int:
+        """Messages the publisher sent on this connection."""
+        if self.batchable and not self.closed:
+            return self._sent + self.pub.seq - self._seq0
+        return self._sent
+
+    def set_link(self, link: LinkModel) -> None:
+        """Change the transport model (applies to messages sent from now on)."""
+        if self.batchable:
+            self._sent += self.pub.seq - self._seq0
+            self.batchable = False  # messages may be in flight: keep FIFO per message
+            self.pub._rebuild_fanout()
+        if callable(link.latency):
+            self._fixed, self._draw = 0, link.latency
+        else:
+            self._fixed, self._draw = _latency_ns(link.latency), None
+        self._loss = link.loss
+        if (self._draw is not None or self._loss) and self._rng is None:
+            self._rng = self.world.rng_for(
+                f"link:{self.pub.resolved_name}:{self.pub.node.name}->{self.sub.node.name}:{self.id}")
+
+    def send(self, data: bytes, seq: int) -> None:
+        """Schedule the arrival of one serialized message (or lose it)."""
+        self._sent += 1
+        world = self.world
+        env = world.env
+        now: int = env._now  # type: ignore[assignment]
+        if self._loss and self._rng is not None and self._rng.random() < self._loss:
+            self.lost += 1
+            world.trace.record_fast((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
+                                     self.pub.resolved_name, self.pub.node.name, seq, "loss"))
+            return
+        delay = self._fixed if self._draw is None else _latency_ns(self._draw(self._rng))
+        at = now + delay
+        if at < self._last:
+            at = self._last  # FIFO per connection
+        self._last = at
+        ev = env.timeout(at - now, (data, seq))
+        ev.callbacks.append(self._arrive)
+
+    def _arrive(self, ev: Any) -> None:
+        if self.closed:
+            return
+        data, seq = ev._value
+        self.received += 1
+        self.sub._receive(self, data, seq)
+
+
+def _arrive_batch(ev: Any) -> None:
+    data, seq, conns = ev._value
+    for conn in conns:
+        if not conn.closed:
+            conn.received += 1
+            conn.sub._receive(conn, data, seq)
+
+
+class Publisher:
+    """``Publisher(node, name, data_class, queue_size=None, latch=False)`` (rospy.Publisher)."""
+
+    def __init__(
+        self,
+        node: Node,
+        name: str,
+        data_class: Any,
+        subscriber_listener: Any = None,
+        tcp_nodelay: bool = False,
+        latch: bool = False,
+        headers: dict[str, str] | None = None,
+        queue_size: int | None = None,
+    ) -> None:
+        node._check_alive("create a publisher")
+        _check_data_class(data_class, name)
+        if queue_size is not None and (isinstance(queue_size, bool) or not isinstance(queue_size, int)
+                                       or queue_size < 0):
+            raise ROSException(f"queue_size must be None or an int >= 0, got {queue_size!r}")
+        self.node = node
+        self.world = node.world
+        self.name = name
+        self.resolved_name = node.resolve_name(name)
+        self.data_class = data_class
+        self.type: str = data_class._type
+        self.md5sum: str = data_class._md5sum
+        self.latch = bool(latch)
+        self.queue_size = queue_size
+        self.headers = dict(headers or {})
+        self.seq = 0
+        self.connections: list[Connection] = []
+        self._latched: bytes | None = None
+        self._closed = False
+        self._fanout: list[tuple[int, list[Connection]]] = []
+        self._single: list[Connection] = []
+        self._nconn = 0
+        self._env = node.world.env
+        self._trace = node.world.trace
+        self._node_name = node.name
+        self._has_header = bool(getattr(data_class, "_has_header", False))
+        self._serialize: Callable[[Any], bytes] = _serializer()
+        if queue_size is None:
+            self.world.record("warning", node.name, topic=self.resolved_name,
+                              text="The publisher should be created with an explicit keyword "
+                                   "argument 'queue_size'.")
+        node._add_entity(self)
+        node._published.append(self)
+        self.world.master.register_publisher(self)
+        self.world.record("topic.advertise", node.name, topic=self.resolved_name, type=self.type,
+                          latch=self.latch)
+
+    def publish(self, *args: Any, **kwds: Any) -> None:
+        """Publish a message instance, or the field values of a new one."""
+        if self._closed:
+            raise ROSException("publish() to an unregistered() handle")
+        if len(args) == 1 and not kwds and type(args[0]) is self.data_class:
+            msg = args[0]
+        else:
+            msg = args_kwds_to_message(self.data_class, args, kwds)
+        self.seq += 1
+        seq = self.seq
+        if self._has_header:
+            msg.header.seq = seq
+        try:
+            data = msg._serialize_to_bytes()
+        except Exception:  # noqa: BLE001 - re-done with the checks that name the bad field
+            data = self._serialize(msg)
+        if self.latch:
+            self._latched = data
+        env = self._env
+        trace = self._trace
+        row = (env._now, "topic.publish", self._node_name, _PUB_KEYS, self.resolved_name, seq,
+               self._nconn)
+        if trace.enabled and not trace._listeners:
+            trace._raw.append(row)
+        else:
+            trace.record_fast(row)
+        for delay, conns in self._fanout:
+            Timeout(env, delay, (data, seq, conns)).callbacks.append(_arrive_batch)
+        for conn in self._single:
+            conn.send(data, seq)
+
+    def _rebuild_fanout(self) -> None:
+        """Group batchable connections by latency (one kernel event per group)."""
+        groups: dict[int, list[Connection]] = {}
+        single: list[Connection] = []
+        for conn in self.connections:
+            if conn.batchable:
+                groups.setdefault(conn._fixed, []).append(conn)
+            else:
+                single.append(conn)
+        self._fanout = list(groups.items())
+        self._single = single
+        self._nconn = len(self.connections)
+
+    def get_num_connections(self) -> int:
+        """Number of live subscriber connections."""
+        return len(self.connections)
+
+    def unregister(self) -> None:
+        """Stop publishing; connections close."""
+        if self._closed:
+            return
+        self._closed = True
+        for conn in list(self.connections):
+            self.world.graph_disconnect(conn)
+        self.world.master.unregister_publisher(self)
+        self.node._remove_entity(self)
+        if self in self.node._published:
+            self.node._published.remove(self)
+        self.world.record("topic.unadvertise", self.node.name, topic=self.resolved_name)
+
+    shutdown = unregister
+
+
+class Subscriber:
+    """``Subscriber(node, name, data_class, callback, callback_args, queue_size)`` (rospy)."""
+
+    def __init__(
+        self,
+        node: Node,
+        name: str,
+        data_class: Any,
+        callback: Callable[..., Any] | None = None,
+        callback_args: Any = None,
+        queue_size: int | None = None,
+        buff_size: int = 65536,
+        tcp_nodelay: bool = False,
+        *,
+        internal: bool = False,
+    ) -> None:
+        node._check_alive("create a subscriber")
+        _check_data_class(data_class, name)
+        if queue_size == -1:
+            queue_size = None
+        elif queue_size == 0:
+            raise ROSException("queue size may not be set to zero")
+        elif queue_size is not None and (type(queue_size) is not int or queue_size < 0):
+            raise ROSException(f"queue size must be an integer (None or -1 for infinite), got {queue_size!r}")
+        if callback is not None and not callable(callback):
+            raise DdesTypeError(f"subscriber callback must be callable, got {callback!r}")
+        self.node = node
+        self.world = node.world
+        self.name = name
+        self.resolved_name = node.resolve_name(name)
+        self.data_class = data_class
+        self.type: str = data_class._type
+        self.md5sum: str = data_class._md5sum
+        self.callback = callback
+        self.callback_args = callback_args
+        self.queue_size = queue_size
+        self.connections: list[Connection] = []
+        self._queue: deque[tuple[Connection, Any, int]] = deque()
+        self._closed = False
+        self._internal = internal
+        self._any = data_class is AnyMsg
+        self._in_progress = False
+        node._add_entity(self)
+        node._subscribed.append(self)
+        self.world.master.register_subscriber(self)
+        self.world.record("topic.subscribe", node.name, topic=self.resolved_name, type=self.type)
+
+    def _message(self, conn: Connection, data: bytes) -> Any:
+        if self._any:
+            return AnyMsg(data, dict(conn.header))
+        msg = self.data_class.__new__(self.data_class)
+        return msg._deserialize_from(data)
+
+    def _receive(self, conn: Connection, data: bytes, seq: int) -> None:
+        if self._closed:
+            return
+        node = self.node
+        if self._any:
+            msg: Any = AnyMsg(data, dict(conn.header))
+        else:
+            cls = self.data_class
+            msg = cls.__new__(cls)._deserialize_from(data)
+        if self._internal or (not node._busy and not self._queue and not self._in_progress):
+            # Fast path: the spinner is free, run the callback now.
+            conn.delivered += 1
+            world = self.world
+            world.trace.record_fast((world.env._now, "topic.deliver", node.name, _DELIVER_KEYS,
+                                     self.resolved_name, conn.pub.node.name, seq))
+            cb = self.callback
+            if cb is None:
+                return
+            try:
+                result = cb(msg) if self.callback_args is None else cb(msg, self.callback_args)
+            except Exception as exc:  # noqa: BLE001 - the node's error policy decides
+                node._callback_error(cb, exc)
+                return
+            if type(result) is GeneratorType:
+                node._adopt_generator(cb, result, None, self)
+            return
+        q = self._queue
+        q.append((conn, msg, seq))
+        qs = self.queue_size
+        if qs is not None and len(q) > qs:
+            old_conn, _old, old_seq = q.popleft()
+            old_conn.dropped += 1
+            self.world.trace.record_fast((self.world.env._now, "topic.drop", node.name, _DROP_KEYS,
+                                          self.resolved_name, old_conn.pub.node.name, old_seq,
+                                          "queue_full"))
+        node._enqueue(self._call_queued, (), owner=self)
+
+    def _call_queued(self) -> Any:
+        if not self._queue or self._closed:
+            return None
+        conn, msg, seq = self._queue.popleft()
+        return self._call(conn, msg, seq, queued=True)
+
+    def _call(self, conn: Connection, msg: Any, seq: int, queued: bool = False) -> Any:
+        conn.delivered += 1
+        world = self.world
+        world.trace.record_fast((world.env._now, "topic.deliver", self.node.name, _DELIVER_KEYS,
+                                 self.resolved_name, conn.pub.node.name, seq))
+        cb = self.callback
+        if cb is None:
+            return None
+        return cb(msg) if self.callback_args is None else cb(msg, self.callback_args)
+
+    def get_num_connections(self) -> int:
+        """Number of live publisher connections."""
+        return len(self.connections)
+
+    def unregister(self) -> None:
+        """Stop receiving; queued messages are discarded."""
+        if self._closed:
+            return
+        self._closed = True
+        for conn in list(self.connections):
+            self.world.graph_disconnect(conn)
+        self._queue.clear()
+        self.world.master.unregister_subscriber(self)
+        self.node._remove_entity(self)
+        if self in self.node._subscribed:
+            self.node._subscribed.remove(self)
+        self.world.record("topic.unsubscribe", self.node.name, topic=self.resolved_name)
+
+    shutdown = unregister
+
+
+def _check_data_class(data_class: Any, name: str) -> None:
+    if data_class is AnyMsg:
+        return
+    if not isinstance(data_class, type) or not hasattr(data_class, "_type") \
+            or not hasattr(data_class, "_md5sum"):
+        raise DdesTypeError(
+            f"topic {name!r}: data_class must be a message class (e.g. "
+            f"get_message_class('std_msgs/String')), got {data_class!r}"
+        )
+
+
+def _serializer() -> Callable[[Any], bytes]:
+    from ddes.msg.message import serialize_checked
+
+    def serialize(msg: Any) -> bytes:
+        if isinstance(msg, AnyMsg):
+            return msg._buff
+        try:
+            return serialize_checked(msg)
+        except ROSSerializationException:
+            raise
+        except Exception as exc:  # noqa: BLE001 - anything else is a serialization failure too
+            raise ROSSerializationException(f"cannot serialize {type(msg).__name__}: {exc}") from exc
+
+    return serialize
+

@@ -1,0 +1,50 @@
+"""Waiting on the graph: ``wait_for_message`` as an event (rospy.wait_for_message)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import simpy
+
+from ddes.errors import ROSException
+from ddes.time.sleep import duration_ns
+
+if TYPE_CHECKING:
+    from ddes.graph.node import Node
+
+__all__ = ["wait_for_message"]
+
+
+def wait_for_message(node: Node, topic: str, data_class: Any, timeout: Any = None) -> simpy.Event:
+    """Event whose value is the next message on ``topic``.
+
+    A temporary subscriber is created and removed once a message arrives.
+    With ``timeout`` (ROS time of the node) the event fails with
+    ``ROSException("timeout exceeded while waiting for message on topic ...")``,
+    rospy's text.
+    """
+    from ddes.graph.topics import Subscriber
+
+    env = node.world.env
+    result = env.event()
+    resolved = node.resolve_name(topic)
+
+    def got(msg: Any) -> None:
+        if not result.triggered:
+            sub.unregister()
+            result.succeed(msg)
+
+    sub = Subscriber(node, topic, data_class, got, queue_size=1, internal=True)
+    if timeout is not None:
+        ns = duration_ns(timeout, "timeout")
+        start = node.clock.now_ns()
+        expiry = node.clock.wait_until(start + ns)
+
+        def expire(_ev: Any) -> None:
+            if not result.triggered:
+                sub.unregister()
+                result.fail(ROSException(
+                    f"timeout exceeded while waiting for message on topic {resolved}"))
+
+        expiry.callbacks.append(expire)
+    return result
