@@ -351,7 +351,7 @@ def test_agrees_with_rosgraph(ros_python, seed: int) -> None:  # type: ignore[no
     assert [canonicalize_name(s) for s in junk_] == theirs["canon"]
     assert [namespace(s) for s in junk_] == theirs["ns"]
     assert [ns_join(a, b) for a, b in zip(junk_, reversed(junk_))] == theirs["join"]
-    ours = []
+    ours: list[Any] = []
     for argv in data["argvs"]:
         try:
             ours.append(load_mappings(argv))
