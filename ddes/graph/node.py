@@ -77,6 +77,8 @@ class Node:
         ``"single"``, ``"manual"`` or a number of threads (see module docstring).
     log_level:
         The logger level (``"debug"``, ``"info"`` ...).
+    log_style:
+        How log lines print: ``"rospy"`` (default) or ``"roscpp"``.
     disable_rosout:
         Do not publish log lines on ``/rosout``.
     """
@@ -93,6 +95,7 @@ class Node:
         use_sim_time: bool | None = None,
         spinner: str | int = "single",
         log_level: str | int = "info",
+        log_style: str = "rospy",
         disable_rosout: bool = False,
     ) -> None:
         if not isinstance(name, str) or not name:
@@ -149,7 +152,7 @@ class Node:
         world.record("node.start", self.name, use_sim_time=self.use_sim_time)
         for key, value in args.params.items():
             master.params.set_param(self.resolve_name("~" + key), value)
-        self.log = NodeLogger(self, log_level, rosout=not disable_rosout)
+        self.log = NodeLogger(self, log_level, rosout=not disable_rosout, style=log_style)
         if self.use_sim_time:
             from ddes.graph.topics import Subscriber
             from ddes.msg import get_message_class

@@ -26,7 +26,8 @@ from ddes.errors import DdesValueError
 if TYPE_CHECKING:
     from ddes.graph.node import Node
 
-__all__ = ["DEBUG", "ERROR", "FATAL", "INFO", "LEVEL_NAMES", "WARN", "NodeLogger", "format_line"]
+__all__ = ["DEBUG", "ERROR", "FATAL", "INFO", "LEVEL_NAMES", "WARN", "NodeLogger", "format_line",
+           "format_line_roscpp"]
 
 DEBUG, INFO, WARN, ERROR, FATAL = 1, 2, 4, 8, 16
 LEVEL_NAMES = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
@@ -49,10 +50,20 @@ def format_line(level: int, text: str, wall_s: float, ros_s: float | None) -> st
     return f"[{LEVEL_NAMES[level]}] [{stamp}]: {text}"
 
 
+def format_line_roscpp(level: int, text: str, ros_ns: int) -> str:
+    """roscpp's console line: ``[ INFO] [secs.nsecs]: text`` (ROS time, 9 decimals)."""
+    secs, nsecs = divmod(ros_ns, 1_000_000_000)
+    return f"[{LEVEL_NAMES[level]:>5}] [{secs}.{nsecs:09d}]: {text}"
+
+
 class NodeLogger:
     """The logging state of one node (level, throttle and once memories)."""
 
-    def __init__(self, node: Node, level: Any = "info", rosout: bool = True) -> None:
+    def __init__(self, node: Node, level: Any = "info", rosout: bool = True,
+                 style: str = "rospy") -> None:
+        if style not in ("rospy", "roscpp"):
+            raise DdesValueError(f"log style must be 'rospy' or 'roscpp', got {style!r}")
+        self.style = style
         self.node = node
         self.level = level_from(level)
         self._last: dict[tuple[str, int], int] = {}
@@ -109,6 +120,9 @@ class NodeLogger:
             self._pub.publish(m)
         out: Callable[[str, int], None] | None = world.log_output
         if out is not None:
-            wall = world.env.now / 1e9
-            ros = node.get_time() if node.use_sim_time else None
-            out(format_line(level, text, wall, ros), level)
+            if self.style == "roscpp":
+                out(format_line_roscpp(level, text, node.clock.now_ns()), level)
+            else:
+                wall = world.env.now / 1e9
+                ros = node.get_time() if node.use_sim_time else None
+                out(format_line(level, text, wall, ros), level)

@@ -1,0 +1,107 @@
+"""Node types: Python callables that ``rosrun`` and launch files start by package and name.
+
+A package's node types live in ``<package>/nodes.py`` as a dict
+``NODES = {"talker": NodeType(main, name="talker"), ...}``.  ``main(node)``
+receives the started :class:`~ddes.graph.node.Node`:
+
+* a plain function sets up publishers, subscribers, timers, services and
+  returns; the node then spins until it is killed (rospy.spin()).
+* a generator function is the node's main loop (``yield rate.sleep()``);
+  when it returns, the node shuts down, as a script that reaches its end.
+  It may return an int exit code (recorded as ``node.exit`` in the trace).
+
+``NodeType.name`` is the name the code would pass to ``init_node``; ``rosrun``
+``__name:=`` and launch ``name=`` override it.  ``log_style`` selects how
+its log lines print (``"rospy"`` or ``"roscpp"``), so a C++ tutorial node prints
+``[ INFO] [...]`` as roscpp does.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from types import GeneratorType
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import DdesError
+
+if TYPE_CHECKING:
+    from ddes.graph.node import Node
+    from ddes.kernel.world import World
+    from ddes.rospack import RosPack
+
+__all__ = ["NodeType", "NodeTypeNotFound", "load_node_types", "start_node"]
+
+
+class NodeTypeNotFound(DdesError):
+    """No node type of that name in the package (rosrun's "Couldn't find executable")."""
+
+
+@dataclass(frozen=True)
+class NodeType:
+    """A runnable node: its main function and the name it registers by default."""
+
+    main: Callable[[Node], Any]
+    name: str
+    anonymous: bool = False
+    log_style: str = "rospy"
+    doc: str = ""
+
+
+def load_node_types(package_dir: Path) -> dict[str, NodeType]:
+    """The ``NODES`` dict of ``package_dir/nodes.py`` (empty if there is none)."""
+    path = Path(package_dir) / "nodes.py"
+    if not path.is_file():
+        return {}
+    mod_name = f"_ddes_nodes_{abs(hash(str(path.resolve())))}"
+    spec = importlib.util.spec_from_file_location(mod_name, path)
+    if spec is None or spec.loader is None:  # pragma: no cover - a .py file always has a loader
+        raise DdesError(f"cannot load node types from {path}")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    nodes = getattr(module, "NODES", None)
+    if not isinstance(nodes, dict):
+        raise DdesError(f"{path} must define NODES = {{'type': NodeType(main, name=...)}}")
+    return dict(nodes)
+
+
+def start_node(
+    world: World,
+    package: str,
+    node_type: str,
+    *,
+    rospack: RosPack | None = None,
+    name: str | None = None,
+    namespace: str = "/",
+    argv: Sequence[str] = (),
+    remappings: dict[str, str] | None = None,
+) -> Node:
+    """Start ``package/node_type`` in ``world`` (``rosrun package node_type argv...``)."""
+    from ddes.rospack import RosPack
+
+    rospack = rospack or RosPack()
+    types = load_node_types(rospack.get_path(package))
+    try:
+        nt = types[node_type]
+    except KeyError:
+        known = ", ".join(sorted(types)) or "none"
+        raise NodeTypeNotFound(
+            f"Couldn't find executable named {node_type} below {rospack.get_path(package)} "
+            f"(node types of {package}: {known})"
+        ) from None
+    node = world.create_node(name or nt.name, namespace=namespace, argv=list(argv),
+                             remappings=remappings, anonymous=nt.anonymous and name is None,
+                             log_style=nt.log_style)
+    result = nt.main(node)
+    if type(result) is GeneratorType:
+        proc = node.process(result)
+
+        def finished(ev: Any) -> None:
+            code = ev.value if ev.ok and isinstance(ev.value, int) else 0
+            world.record("node.exit", node.name, code=code)
+            node.shutdown("main loop returned")
+
+        proc.callbacks.append(finished)
+    return node
