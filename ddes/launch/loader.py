@@ -245,8 +245,8 @@ class _Loader:
 
     # -- simple tags ------------------------------------------------------------------------
 
-    def arg_tag(self, el: Element, scope: Scope) -> None:
-        """<arg name value|default doc>."""
+    def arg_tag(self, el: Element, scope: Scope) -> str:
+        """<arg name value|default doc>; returns the name."""
         with self.at(el, scope):
             self.check_attrs(el, _ATTRS["arg"])
             name = self.req(el, scope, "name")
@@ -258,6 +258,7 @@ class _Loader:
                     "constant, default= can be overridden"
                 )
             scope.add_arg(name, value=value, default=default)
+        return name
 
     def remap_tag(self, el: Element, scope: Scope, target: Scope | None = None) -> None:
         """<remap from to>: into ``target`` (a node's scope) or ``scope``."""
@@ -503,22 +504,28 @@ class _Loader:
                 for name, value in scope.subst.args.items():
                     child.add_arg(name, value=value)
                 child.pass_all_args = True
+        sites: dict[str, Element] = {}
         for c in el.children:
             if c.tag not in ("arg", "env"):
                 with self.at(c, scope):
                     raise ROSLaunchException(
                         f"unrecognized <{c.tag}> tag in <include>; an include takes arg and env"
                     )
-            if self.enabled(c, child):
-                (self.arg_tag if c.tag == "arg" else self.env_tag)(c, child)
-        with self.at(el, scope):
-            passed = child.include_args or {}
-            missing = [a for a in child.arg_names if a not in passed]
-            if missing:
+            if not self.enabled(c, child):
+                continue
+            if c.tag == "arg":
+                sites[self.arg_tag(c, child)] = c
+            else:
+                self.env_tag(c, child)
+        passed = child.include_args or {}
+        missing = [a for a in child.arg_names if a not in passed]
+        if missing:
+            with self.at(sites.get(missing[0], el), scope):
                 raise ROSLaunchException(
                     f"include args must have declared values: give <arg name=\"{missing[0]}\"> "
-                    "a value= inside <include>"
+                    "a value= (or a default=) inside <include>"
                 )
+        with self.at(el, scope):
             args_passed = list(passed)
             child.arg_names = []
             child.include_args = None
@@ -532,10 +539,10 @@ class _Loader:
         if not pass_all:
             unused = [a for a in args_passed if a not in child.arg_names]
             if unused:
-                with self.at(el, scope):
+                with self.at(sites.get(unused[0], el), scope):
                     raise ROSLaunchException(
                         f"unused args [{', '.join(unused)}] for include of [{inc}]; the "
-                        "included file declares no such <arg>"
+                        "included file declares no such <arg> (check the spelling)"
                     )
 
 
