@@ -643,3 +643,23 @@ print(json.dumps(yaml.dump(json.load(sys.stdin))))
 def test_to_xmlrpc_names_the_path() -> None:
     with pytest.raises(DdesTypeError, match=r"v/a\[1\]"):
         to_xmlrpc({"a": [1, None]}, "v")
+
+
+# -- docs/parameters.md: every snippet runs ---------------------------------------------------------------
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "parameters.md"
+
+
+def _snippets() -> list[str]:
+    import re
+
+    return re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S)
+
+
+def test_docs_have_snippets() -> None:
+    assert len(_snippets()) >= 5
+
+
+@pytest.mark.parametrize("index", range(len(_snippets())))
+def test_docs_snippet_runs(index: int) -> None:
+    exec(compile(_snippets()[index], f"{DOC}#snippet{index}", "exec"), {})
