@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import copy
 from struct import error as _struct_error
-from typing import Any, ClassVar, NamedTuple
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 from ddes.msg.spec import MsgSpec
 from ddes.msg.strify import strify_message
@@ -48,7 +48,14 @@ class FieldInfo(NamedTuple):
     high: int = 0
 
 
-class Message:
+class _MessageMeta(type):
+    """Metaclass of messages; only tells type checkers that constants are generated."""
+
+    if TYPE_CHECKING:
+        def __getattr__(cls, name: str) -> Any: ...
+
+
+class Message(metaclass=_MessageMeta):
     """Base class of every generated message class (genpy.Message)."""
 
     __slots__ = ("_connection_header",)
@@ -60,8 +67,14 @@ class Message:
     _slot_types: ClassVar[list[str]] = []
     _spec: ClassVar[MsgSpec | None] = None
     _fields_info: ClassVar[tuple[FieldInfo, ...]] = ()
+    _generated_source: ClassVar[str] = ""
 
     __hash__ = None  # type: ignore[assignment]  # mutable, as in genpy
+
+    if TYPE_CHECKING:  # fields are generated per class: let type checkers accept them
+        def __getattr__(self, name: str) -> Any: ...
+
+        def __setattr__(self, name: str, value: Any) -> None: ...
 
     def __init__(self, *args: Any, **kwds: Any) -> None:  # replaced in generated classes
         if args or kwds:

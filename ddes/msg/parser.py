@@ -267,18 +267,22 @@ def split_sections(text: str) -> list[tuple[str, int]]:
     return [("".join(lines), first) for lines, first in pieces]
 
 
-def _separator_error(kind: str, filename: str, full_name: str, want: int, got: int) -> None:
-    if want != got:
+def _check_separators(kind: str, text: str, filename: str, full_name: str, want: int) -> None:
+    lines = [i + 1 for i, line in enumerate(text.split("\n")) if line.startswith(IODELIM)]
+    if len(lines) != want:
+        where = f" (line{'s' if len(lines) > 1 else ''} {', '.join(map(str, lines))})" \
+            if lines else ""
         raise InvalidMsgSpec(
-            f"{filename or full_name}: a .{kind} file needs exactly {want} '---' "
-            f"separator line{'s' if want > 1 else ''}, found {got}"
+            f"{filename or full_name}:{lines[want] if len(lines) > want else 1}: a .{kind} "
+            f"file needs exactly {want} '---' separator line{'s' if want > 1 else ''}, "
+            f"found {len(lines)}{where}"
         )
 
 
 def parse_srv(text: str, full_name: str, *, filename: str = "") -> SrvSpec:
     """Parse .srv text for service ``full_name`` into request and response specs."""
+    _check_separators("srv", text, filename, full_name, 1)
     pieces = split_sections(text)
-    _separator_error("srv", filename, full_name, 2, len(pieces))
     (req_text, req_line), (resp_text, resp_line) = pieces
     request = parse_msg(req_text, full_name + "Request", filename=filename, first_line=req_line)
     response = parse_msg(resp_text, full_name + "Response", filename=filename,
@@ -292,8 +296,8 @@ def action_message_texts(text: str, name: str, *, filename: str = "") -> dict[st
     Keys are the suffixes (``Goal``, ``ActionGoal`` ...); ``name`` is the
     action's base name (``Fibonacci``).
     """
+    _check_separators("action", text, filename, name, 2)
     pieces = split_sections(text)
-    _separator_error("action", filename, name, 3, len(pieces))
     (goal, _), (result, _), (feedback, _) = pieces
     return {
         "Action": AUTOGEN + f"\n{name}ActionGoal action_goal\n{name}ActionResult "
