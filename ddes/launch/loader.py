@@ -37,7 +37,10 @@ from ddes.launch.values import convert_value, parse_bool_attr, parse_float_attr
 from ddes.launch.xmltree import Element, parse_xml
 from ddes.rospack import RosPack
 
-__all__ = ["load_launch"]
+__all__ = ["MAX_INCLUDE_DEPTH", "load_launch"]
+
+#: How deep ``<include>`` may nest (a file including itself would recurse for ever).
+MAX_INCLUDE_DEPTH = 40
 
 _NODE_ATTRS = ("pkg", "type", "machine", "name", "args", "output", "respawn", "respawn_delay",
                "cwd", "ns", "clear_params", "launch-prefix", "required")
@@ -69,6 +72,12 @@ def load_launch(
     (default: ``RosPack()``).  ``environ`` is what ``$(env)``/``$(optenv)``
     read (default ``os.environ``).  ``anon_seed`` seeds ``$(anon)`` names.
     """
+    for k, v in (args or {}).items():
+        if not isinstance(k, str) or not isinstance(v, str):
+            raise ROSLaunchException(
+                f"launch args are strings, as on the command line: got {k!r}: {v!r}; "
+                f"pass {k}:={v!s} as str"
+            )
     loader = _Loader(rospack if rospack is not None else RosPack(),
                      os.environ if environ is None else environ,
                      anon_seed if isinstance(anon_seed, random.Random)
@@ -532,6 +541,11 @@ class _Loader:
             child.subst = SubstitutionContext(self.rospack, self.environ, self.anon, inc,
                                               dict(passed))
             child.chain = scope.chain + (f"{scope.filename or '<string>'}:{el.line}",)
+            if len(child.chain) > MAX_INCLUDE_DEPTH:
+                raise ROSLaunchException(
+                    f"includes nested more than {MAX_INCLUDE_DEPTH} deep: does a file include "
+                    "itself? Guard a recursive include with if=\"...\""
+                )
         root = self.read_launch(inc, (el, scope), child.chain)
         self.plan.files.append(inc)
         self.launch_tag(root, child)

@@ -10,9 +10,12 @@ from __future__ import annotations
 import re
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ddes.errors import ROSLaunchException
 from ddes.launch import load_launch
+from ddes.rospack import RosPack
 
 from .workspace import Workspace
 
@@ -177,3 +180,61 @@ def test_missing_top_level_file(ws: Workspace) -> None:
 def test_string_launch_has_no_dirname(ws: Workspace) -> None:
     with pytest.raises(ROSLaunchException, match=r"^<string>:1: <param .*Cannot substitute"):
         ws.load('<launch><param name="d" value="$(dirname)"/></launch>')
+
+
+def test_self_include_is_stopped(ws: Workspace) -> None:
+    path = ws.write("self.launch", '<launch>\n<include file="$(dirname)/self.launch"/>\n</launch>')
+    with pytest.raises(ROSLaunchException, match="includes nested more than 40 deep") as info:
+        ws.load(path)
+    assert str(info.value).count("included from") == 40
+
+
+def test_guarded_recursive_include_terminates(ws: Workspace) -> None:
+    ws.write("count.launch", """
+        <launch>
+          <arg name="n"/>
+          <node pkg="p" type="t" name="n$(arg n)"/>
+          <include file="$(dirname)/count.launch" if="$(eval n > 0)">
+            <arg name="n" value="$(eval n - 1)"/>
+          </include>
+        </launch>
+    """)
+    assert [n.name for n in ws.load("count.launch", n="3").nodes] == ["n3", "n2", "n1", "n0"]
+
+
+def test_arg_values_must_be_strings(ws: Workspace) -> None:
+    with pytest.raises(ROSLaunchException, match="launch args are strings"):
+        load_launch("<launch/>", {"n": 3}, ws.rospack)  # type: ignore[dict-item]
+
+
+_TAGS = ["group", "node", "param", "remap", "arg", "rosparam", "env", "include", "test",
+         "machine", "bogus"]
+_ATTRS = ['ns="g"', 'ns=""', 'ns="/abs"', 'if="$(arg a)"', 'unless="1"', 'if="maybe"',
+          'pkg="p"', 'type="t"', 'name="n"', 'name="$(anon x)"', 'name="~p"', 'value="1"',
+          'value="$(eval a * 2)"', 'value="$(arg b)"', 'default="2"', 'type="int"',
+          'from="a"', 'to="b"', 'file="/nonexistent"', 'clear_params="true"', 'args="a \'b"',
+          'param="q"', 'command="delete"', 'subst_value="true"', 'respawn="true"',
+          'required="true"', 'test-name="t"', 'address="h"', 'textfile="/nonexistent"']
+_TEXTS = ["", "a: 1", "[1, 2]", "$(arg a)", "{b: {c: deg(90)}}", "x: [", "&amp;"]
+
+
+def _elements(depth: int = 0) -> st.SearchStrategy[str]:
+    children = st.lists(_elements(depth + 1), max_size=3).map("".join) if depth < 3 \
+        else st.just("")
+    return st.builds(
+        lambda tag, attrs, text, kids:
+            f"<{tag} {' '.join({a.split('=')[0]: a for a in attrs}.values())}>{text}{kids}</{tag}>",
+        st.sampled_from(_TAGS), st.lists(st.sampled_from(_ATTRS), max_size=4),
+        st.sampled_from(_TEXTS), children)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(_elements(), max_size=6))
+def test_random_input_loads_or_raises_roslaunchexception(elements: list[str]) -> None:
+    text = '<launch><arg name="a" default="true"/>' + "".join(elements) + "</launch>"
+    try:
+        plan = load_launch(text, {}, RosPack([], use_env=False, bundled=False), environ={})
+    except ROSLaunchException as exc:
+        assert re.match(r"<string>:1: <[\w-]+", str(exc)), str(exc)
+    else:
+        assert plan.to_text().startswith("SUMMARY\n")
