@@ -364,7 +364,9 @@ class _Loader:
         with self.at(el, scope):
             self.check_attrs(el, _TEST_ATTRS if is_test else _NODE_ATTRS)
             if is_test:
-                name = self.test_attrs(el, scope)
+                given = self.opt(el, scope, "name")  # resolved first, as roslaunch does
+                test_name = self.test_attrs(el, scope)
+                name = given or test_name
             else:
                 name = self.req(el, scope, "name")
             if not name:
@@ -438,7 +440,7 @@ class _Loader:
             self.plan.nodes.append(spec)
 
     def test_attrs(self, el: Element, scope: Scope) -> str:
-        """<test>-only checks; returns the node name (name, else test-name)."""
+        """<test>-only checks; returns test-name."""
         for a in ("respawn", "respawn_delay", "output"):
             if a in el.attrs:
                 raise ROSLaunchException(f"<test> tags cannot have '{a}' attribute")
@@ -456,7 +458,7 @@ class _Loader:
                 int(retry)
             except ValueError:
                 raise ROSLaunchException(f"'retry' must be a number: [{retry}]") from None
-        return self.opt(el, scope, "name") or test_name
+        return test_name
 
     def node_spec(self, el: Element, scope: Scope, o: dict[str, str | None], pkg: str,
                   node_type: str, name: str, ns: str, respawn: bool, respawn_delay: float,
@@ -515,14 +517,14 @@ class _Loader:
                 child.pass_all_args = True
         sites: dict[str, Element] = {}
         for c in el.children:
-            if c.tag not in ("arg", "env"):
+            if c.tag.lower() not in ("arg", "env"):
                 with self.at(c, scope):
                     raise ROSLaunchException(
                         f"unrecognized <{c.tag}> tag in <include>; an include takes arg and env"
                     )
             if not self.enabled(c, child):
                 continue
-            if c.tag == "arg":
+            if c.tag.lower() == "arg":
                 sites[self.arg_tag(c, child)] = c
             else:
                 self.env_tag(c, child)

@@ -91,7 +91,10 @@ class ParamLoader:
             raise ROSLaunchException(
                 "<param> tag must have one and only one of value/textfile/binfile."
             )
-        name = ld.req(el, scope, "name").strip()
+        if "name" not in el.attrs:
+            raise ROSLaunchException("<param> tag is missing required attribute: 'name'; add "
+                                     "name=\"...\"")
+        name = resolve_args(el.attrs["name"].strip(), scope.subst)  # stripped, then resolved
         if not name:
             raise ROSLaunchException("parameter name must be non-empty")
         result: Any

@@ -322,3 +322,46 @@ def test_random_launch_trees_match_roslaunch(ros_python, ws: Workspace,  # type:
         ours = ddes_json(ws, f, {"flag": fl})
         for key in ("params", "nodes", "summary"):
             assert ours[key] == their[key], (f.read_text(), key)
+
+
+ROS_RESOLVE = r"""
+import json, os, sys
+data = json.load(sys.stdin)
+os.environ["ROS_PACKAGE_PATH"] = data["rpp"]
+os.environ["ROS_HOME"] = data["home"]
+import rosgraph.names
+from roslaunch.rlutil import resolve_launch_arguments
+out = []
+for argv in data["argvs"]:
+    try:
+        files = resolve_launch_arguments(argv)
+        out.append([files[0], rosgraph.names.load_mappings(argv)])
+    except Exception as e:
+        out.append("ERROR")
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.ros
+def test_command_line_forms_match_roslaunch(ros_python, ws: Workspace) -> None:  # type: ignore[no-untyped-def]
+    from ddes.launch import resolve_launch_args
+
+    build(ws)
+    ws.write("src/demo_pkg/other/twice.launch", "<launch/>")
+    ws.write("src/demo_pkg/more/twice.launch", "<launch/>")
+    main = str(ws.src / "demo_pkg" / "launch" / "main.launch")
+    argvs = [["demo_pkg", "main.launch"], ["demo_pkg", "sub.launch", "who:=x", "_p:=1"],
+             [main, "robot:=r2", "__ns:=/n"], ["demo_pkg", "twice.launch"],
+             ["demo_pkg", "nope.launch"], ["no_such_pkg", "main.launch"], ["/nonexistent"]]
+    home = ws.root / "ros_home"
+    home.mkdir(exist_ok=True)
+    theirs = ros_python(ROS_RESOLVE, as_json=True, stdin=json.dumps(
+        {"rpp": str(ws.src), "home": str(home), "argvs": argvs}))
+    assert [t == "ERROR" for t in theirs] == [False, False, False, True, True, True, True]
+    for argv, their in zip(argvs, theirs):
+        try:
+            path, args = resolve_launch_args(argv, ws.rospack)
+        except ROSLaunchException:
+            assert their == "ERROR", argv
+        else:
+            assert [path, args] == their, argv

@@ -396,3 +396,19 @@ def test_loading_twice_gives_equal_plans(ws: Workspace) -> None:
     build(ws)
     path = ws.src / "demo_pkg" / "launch" / "main.launch"
     assert ws.load(path, 11) == ws.load(path, 11)
+
+
+def test_test_tag_name_defaults_to_test_name(ws: Workspace) -> None:
+    plan = ws.launch("x.launch", """
+        <test test-name="t1" pkg="p" type="t"><param name="a" value="1"/></test>
+        <test test-name="t2" name="named" pkg="p" type="t"><param name="b" value="2"/></test>
+    """)
+    assert plan.params == {"/t1/a": 1, "/named/b": 2} and plan.nodes == []
+
+
+def test_param_name_is_stripped_before_substitution(ws: Workspace) -> None:
+    plan = ws.launch("x.launch", """
+        <arg name="n" default="p"/>
+        <param name=" $(arg n) " value="1"/>
+    """)
+    assert plan.params == {"/p": 1}
