@@ -23,6 +23,8 @@ _MISSING = object()
 
 
 def _short(value: Any) -> str:
+    if isinstance(value, Message):
+        return f"<{value._type} message>"
     text = repr(value)
     return text if len(text) <= 80 else text[:77] + "..."
 

@@ -9,6 +9,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from ddes.errors import DeserializationError
 from ddes.msg import (
     Message,
     default_registry,
@@ -83,3 +84,26 @@ def test_class_from_definition_reads_registry_bytes(type_name: str, data: st.Dat
     assert back == msg
     assert serialize_message(back) == serialize_message(msg)
     assert str(back) == str(msg)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.sampled_from(MSG_TYPES), st.data())
+def test_every_truncation_is_a_deserialization_error(type_name: str, data: st.DataObject) -> None:
+    cls = _REG.get_message_class(type_name)
+    raw = serialize_message(data.draw(messages(cls)))
+    if not raw:
+        return
+    cut = data.draw(st.integers(0, len(raw) - 1))
+    with pytest.raises(DeserializationError):
+        deserialize_message(cls, raw[:cut])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.sampled_from(MSG_TYPES), st.binary(max_size=64))
+def test_garbage_gives_a_message_or_a_deserialization_error(type_name: str, raw: bytes) -> None:
+    cls = _REG.get_message_class(type_name)
+    try:
+        msg = deserialize_message(cls, raw)
+    except DeserializationError:
+        return
+    assert isinstance(msg, cls)
