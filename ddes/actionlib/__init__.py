@@ -10,8 +10,17 @@
 * :mod:`ddes.actionlib.goal_id`: goal ids in the server's and the client's
   formats, with a counter per generator.
 
-The ActionServer/ActionClient on topics are built on top of this and only
-forward what these functions decide.  ``docs/actionlib.md`` renders the tables.
+On top of it, on the five topics of an action namespace:
+
+* :class:`ActionServer` / :class:`ServerGoalHandle` (:mod:`ddes.actionlib.server`);
+* :class:`ActionClient` / :class:`ClientGoalHandle` (:mod:`ddes.actionlib.client`);
+* :class:`SimpleActionServer` (:mod:`ddes.actionlib.simple_server`) and
+  :class:`SimpleActionClient` (:mod:`ddes.actionlib.simple_client`);
+* :func:`plot_goals` (:mod:`ddes.actionlib.plot`): a timeline of goals from a trace.
+
+They only forward what the pure functions decide.  ``docs/actionlib.md``
+renders the tables and shows the servers, the clients, the protocol machine
+(:mod:`ddes.testing.actions`) and the plot.
 """
 
 from ddes.actionlib.cancel import (
@@ -35,7 +44,12 @@ from ddes.actionlib.cancel import (
     receive_cancel,
     receive_goal,
 )
+from ddes.actionlib.client import ActionClient, ClientGoalHandle
 from ddes.actionlib.goal_id import GoalIdGenerator, GoalIdStamp, GoalIdStyle
+from ddes.actionlib.plot import goal_timelines, plot_goals
+from ddes.actionlib.server import ActionServer, ServerGoalHandle
+from ddes.actionlib.simple_client import SimpleActionClient
+from ddes.actionlib.simple_server import SimpleActionServer
 from ddes.actionlib.states import (
     COMM_TRANSITIONS,
     INVALID_TRANSITION,
@@ -66,8 +80,11 @@ from ddes.actionlib.states import (
 )
 
 __all__ = [
+    "ActionClient",
+    "ActionServer",
     "CANCELED_BY_STAMP_TEXT",
     "COMM_TRANSITIONS",
+    "ClientGoalHandle",
     "CancelOutcome",
     "CancelRequest",
     "CommMarker",
@@ -90,8 +107,11 @@ __all__ = [
     "SERVER_TRANSITIONS",
     "STATUS_LIST_TIMEOUT_NS",
     "ServerEvent",
+    "ServerGoalHandle",
     "ServerGoals",
     "ServerTransition",
+    "SimpleActionClient",
+    "SimpleActionServer",
     "SimpleCallback",
     "SimpleGoalState",
     "SimpleUpdate",
@@ -105,7 +125,9 @@ __all__ = [
     "cancel_matches",
     "comm_state_name",
     "comm_target",
+    "goal_timelines",
     "is_expired",
+    "plot_goals",
     "publish_status",
     "receive_cancel",
     "receive_goal",

@@ -1,0 +1,532 @@
+"""ActionServer and ServerGoalHandle on the five action topics (rospy ``actionlib.ActionServer``).
+
+The server owns five topics under its namespace ``ns``:
+
+============  =========================  ==========  =====================================
+topic         type                       direction   notes
+============  =========================  ==========  =====================================
+``goal``      ``FooActionGoal``          subscribed  queue ``actionlib_server_sub_queue_size``
+``cancel``    ``actionlib_msgs/GoalID``  subscribed  (default -1: unbounded)
+``status``    ``GoalStatusArray``        published   **latched**; queue
+``feedback``  ``FooActionFeedback``      published   ``actionlib_server_pub_queue_size``
+``result``    ``FooActionResult``        published   (default 50)
+============  =========================  ==========  =====================================
+
+Every decision is taken by the pure core (:mod:`ddes.actionlib.cancel`:
+``receive_goal``, ``receive_cancel``, ``apply_goal_event``,
+``publish_status``); this module only turns its publications into messages
+and runs the user's callbacks.  So the status array is published on every
+transition (a result first, then the array, for a terminal one), by a node
+Timer at ``actionlib_status_frequency`` (default 5 Hz, ROS time), and
+finished goals stay in it ``<ns>/status_list_timeout`` (default 5 s).
+
+An illegal call on a goal handle (``set_succeeded`` on a goal already
+SUCCEEDED, ...) changes nothing, logs ROS's error text, records an
+``action.server.illegal`` trace event and counts it in
+:attr:`ActionServer.illegal_transitions`: never silent, never a crash.
+
+Differences from rospy, on purpose: ``auto_start`` defaults to False (ROS
+defaults to True and then warns that it races; ddes keeps the warning when you
+pass True); goals and cancels reaching a server that is not started are
+ignored, as in ROS, but recorded as ``action.misuse``; goal ids count per node
+(ROS: per process).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from ddes.actionlib._common import (
+    ActionTypes,
+    NodeGoalIds,
+    check_message,
+    misuse,
+    new_time,
+    queue_size_param,
+    run_user_callbacks,
+)
+from ddes.actionlib.cancel import (
+    UNINITIALIZED_HANDLE_TEXT,
+    CancelRequest,
+    GoalArrival,
+    GoalTracker,
+    Publication,
+    PublicationTopic,
+    ServerGoals,
+    ServerTransition,
+    apply_goal_event,
+    publish_status,
+    receive_cancel,
+    receive_goal,
+)
+from ddes.actionlib.goal_id import GoalIdStyle
+from ddes.actionlib.states import TERMINAL_STATUSES, GoalStatus, ServerEvent
+from ddes.errors import DdesTypeError, ROSActionException
+from ddes.graph.rosout import WARN
+from ddes.time.rostime import Duration
+
+if TYPE_CHECKING:
+    from ddes.graph.node import Node
+    from ddes.graph.topics import Publisher, Subscriber
+    from ddes.time.timer import Timer, TimerEvent
+
+__all__ = ["AUTO_START_WARNING", "ActionServer", "ServerGoalHandle"]
+
+#: rospy's warning for ``auto_start=True``.
+AUTO_START_WARNING = (
+    "You've passed in true for auto_start to the python action server, you should always pass "
+    "in false to avoid race conditions."
+)
+_DEPRECATED_FREQUENCY = (
+    "You're using the deprecated status_frequency parameter, please switch to "
+    "actionlib_status_frequency."
+)
+
+
+class ServerGoalHandle:
+    """One goal as the server's user sees it (rospy ``ServerGoalHandle``).
+
+    Handles are made by the server; two handles are equal when their goal
+    ids are.  A handle without a goal (``ServerGoalHandle.uninitialized``,
+    what SimpleActionServer holds before its first goal) logs ROS's
+    "uninitialized" error on every call, as rospy does.
+    """
+
+    __slots__ = ("_server", "_tracker", "goal")
+
+    def __init__(self, server: ActionServer, tracker: GoalTracker | None, goal: Any) -> None:
+        self._server = server
+        self._tracker = tracker
+        #: The ``FooActionGoal`` message (header, goal_id, goal), or None.
+        self.goal = goal
+
+    @classmethod
+    def uninitialized(cls, server: ActionServer) -> ServerGoalHandle:
+        """A handle without a goal (rospy ``ServerGoalHandle()``)."""
+        return cls(server, None, None)
+
+    # -- state ----------------------------------------------------------------------------
+    @property
+    def tracker(self) -> GoalTracker | None:
+        """The goal's current entry of the status list (kept after it is pruned)."""
+        return self._tracker
+
+    def get_goal(self) -> Any:
+        """The user's goal (``FooGoal``), or None for an uninitialized handle."""
+        return None if self.goal is None else self.goal.goal
+
+    def get_goal_id(self) -> Any:
+        """The ``actionlib_msgs/GoalID`` of the goal (an empty one, logged, if uninitialized)."""
+        GoalID = self._server._GoalID
+        t = self._tracker
+        if self.goal is None or t is None:
+            misuse(self._server.node, self._server.ns,
+                   "Attempt to get a goal id on an uninitialized ServerGoalHandle")
+            return GoalID()
+        return GoalID(stamp=new_time(t.stamp), id=t.goal_id)
+
+    def get_goal_status(self) -> Any:
+        """The goal's ``actionlib_msgs/GoalStatus`` (an empty one, logged, if uninitialized)."""
+        t = self._tracker
+        if self.goal is None or t is None:
+            misuse(self._server.node, self._server.ns,
+                   "Attempt to get goal status on an uninitialized ServerGoalHandle")
+            return self._server._GoalStatus()
+        return self._server._status_msg(t)
+
+    @property
+    def status(self) -> GoalStatus | None:
+        """The goal's status as a :class:`GoalStatus` (None if uninitialized); no logging."""
+        return None if self._tracker is None or self.goal is None else self._tracker.status
+
+    # -- transitions ----------------------------------------------------------------------
+    def set_accepted(self, text: str = "") -> ServerTransition | None:
+        """PENDING → ACTIVE or RECALLING → PREEMPTING."""
+        return self._server._event(self, ServerEvent.ACCEPT, None, text)
+
+    def set_rejected(self, result: Any = None, text: str = "") -> ServerTransition | None:
+        """PENDING or RECALLING → REJECTED (publishes the result)."""
+        return self._server._event(self, ServerEvent.REJECT, result, text)
+
+    def set_canceled(self, result: Any = None, text: str = "") -> ServerTransition | None:
+        """PENDING/RECALLING → RECALLED, ACTIVE/PREEMPTING → PREEMPTED (publishes the result)."""
+        return self._server._event(self, ServerEvent.CANCEL, result, text)
+
+    def set_succeeded(self, result: Any = None, text: str = "") -> ServerTransition | None:
+        """ACTIVE or PREEMPTING → SUCCEEDED (publishes the result)."""
+        return self._server._event(self, ServerEvent.SUCCEED, result, text)
+
+    def set_aborted(self, result: Any = None, text: str = "") -> ServerTransition | None:
+        """ACTIVE or PREEMPTING → ABORTED (publishes the result)."""
+        return self._server._event(self, ServerEvent.ABORT, result, text)
+
+    def set_cancel_requested(self) -> bool:
+        """PENDING → RECALLING or ACTIVE → PREEMPTING; True iff it moved (ROS's private helper)."""
+        tr = self._server._event(self, ServerEvent.CANCEL_REQUEST, None, "")
+        return tr is not None and tr.legal
+
+    def publish_feedback(self, feedback: Any) -> None:
+        """Publish ``feedback`` (a ``FooFeedback``) for this goal, whatever its state, as ROS does."""
+        self._server._feedback(self, feedback)
+
+    # -- identity -------------------------------------------------------------------------
+    def _id(self) -> str | None:
+        return None if self.goal is None or self._tracker is None else self._tracker.goal_id
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, ServerGoalHandle):
+            return NotImplemented
+        mine, theirs = self._id(), other._id()
+        return mine is not None and theirs is not None and mine == theirs
+
+    def __ne__(self, other: object) -> bool:
+        result = self.__eq__(other)
+        return result if result is NotImplemented else not result
+
+    def __hash__(self) -> int:
+        return hash(self._id())
+
+    def __repr__(self) -> str:
+        t = self._tracker
+        if self.goal is None or t is None:
+            return "<ServerGoalHandle uninitialized>"
+        return f"<ServerGoalHandle {t.goal_id} {t.status.name}>"
+
+
+class ActionServer:
+    """``ActionServer(node, ns, ActionSpec, goal_cb, cancel_cb=None, auto_start=False)``.
+
+    ``goal_cb(gh)`` runs for every new goal, ``cancel_cb(gh)`` for every goal
+    a cancel request moves to RECALLING or PREEMPTING.  Callbacks run through
+    the node's callback queue; a callback that is a generator takes simulated
+    time, holding the node's spinner as a slow ROS callback does.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        ns: str,
+        ActionSpec: Any,  # noqa: N803 - rospy's parameter name
+        goal_cb: Callable[[ServerGoalHandle], Any],
+        cancel_cb: Callable[[ServerGoalHandle], Any] | None = None,
+        auto_start: bool = False,
+    ) -> None:
+        node._check_alive("create an action server")
+        if not isinstance(ns, str) or not ns:
+            raise DdesTypeError(f"action namespace must be a non-empty string, got {ns!r}")
+        if not callable(goal_cb):
+            raise DdesTypeError(
+                f"goal_cb must be callable (it receives a ServerGoalHandle), got {goal_cb!r}")
+        if cancel_cb is not None and not callable(cancel_cb):
+            raise DdesTypeError(f"cancel_cb must be callable or None, got {cancel_cb!r}")
+        from ddes.msg import get_message_class
+
+        self.node = node
+        self.types = ActionTypes.of(ActionSpec)
+        self.ActionSpec = self.types.spec
+        self.ActionGoal = self.types.action_goal
+        self.ActionResult = self.types.action_result
+        self.ActionResultType = self.types.result
+        self.ActionFeedback = self.types.action_feedback
+        self._GoalID = get_message_class("actionlib_msgs/GoalID")
+        self._GoalStatus = get_message_class("actionlib_msgs/GoalStatus")
+        self._GoalStatusArray = get_message_class("actionlib_msgs/GoalStatusArray")
+        #: The resolved action namespace (``/fibonacci``).
+        self.ns = node.resolve_name(ns)
+        self.goal_callback = goal_cb
+        self.cancel_callback = cancel_cb
+        self.auto_start = bool(auto_start)
+        self.started = False
+        self._stopped = False
+        self._ids = NodeGoalIds(node, GoalIdStyle.SERVER)
+        self._goals = ServerGoals.create()
+        self._handles: dict[int, ServerGoalHandle] = {}
+        #: Illegal goal-handle calls so far (each also an ``action.server.illegal`` event).
+        self.illegal_transitions = 0
+        self.status_frequency = 5.0
+        self.goal_sub: Subscriber | None = None
+        self.cancel_sub: Subscriber | None = None
+        self.status_pub: Publisher | None = None
+        self.result_pub: Publisher | None = None
+        self.feedback_pub: Publisher | None = None
+        self.status_timer: Timer | None = None
+        node._add_entity(self)
+        if self.auto_start:
+            misuse(node, self.ns, AUTO_START_WARNING, level=WARN)
+            self.start()
+
+    # -- configuration --------------------------------------------------------------------
+    def register_goal_callback(self, cb: Callable[[ServerGoalHandle], Any]) -> None:
+        """Replace the goal callback."""
+        self.goal_callback = cb
+
+    def register_cancel_callback(self, cb: Callable[[ServerGoalHandle], Any] | None) -> None:
+        """Replace the cancel callback."""
+        self.cancel_callback = cb
+
+    @property
+    def status_list(self) -> tuple[GoalTracker, ...]:
+        """The status list as the pure core holds it, in order."""
+        return self._goals.trackers
+
+    @property
+    def last_cancel(self) -> int:
+        """The latest cancel stamp seen (int ns)."""
+        return self._goals.last_cancel
+
+    @property
+    def status_list_timeout(self) -> int:
+        """How long finished goals stay in the status list (int ns)."""
+        return self._goals.status_list_timeout
+
+    # -- lifecycle ------------------------------------------------------------------------
+    def start(self) -> None:
+        """Create the topics and the status timer, then publish the status (rospy ``start``)."""
+        self.node._check_alive("start an action server")
+        if self.started:
+            misuse(self.node, self.ns, f"action server {self.ns} is already started; "
+                   "start() was ignored", level=WARN)
+            return
+        self._initialize()
+        self.started = True
+        self._stopped = False
+        self.node.world.record("action.server.start", self.node.name, ns=self.ns,
+                               type=self.types.name, status_frequency=self.status_frequency,
+                               status_list_timeout=self._goals.status_list_timeout)
+        self.publish_status()
+
+    def _initialize(self) -> None:
+        node, ns = self.node, self.ns
+        pub_q = queue_size_param(node, "actionlib_server_pub_queue_size", 50)
+        sub_q = queue_size_param(node, "actionlib_server_sub_queue_size", -1)
+        self.status_pub = node.advertise(ns + "/status", self._GoalStatusArray, latch=True,
+                                         queue_size=pub_q)
+        self.result_pub = node.advertise(ns + "/result", self.ActionResult, queue_size=pub_q)
+        self.feedback_pub = node.advertise(ns + "/feedback", self.ActionFeedback, queue_size=pub_q)
+        self.goal_sub = node.subscribe(ns + "/goal", self.ActionGoal, self._internal_goal_callback,
+                                       queue_size=sub_q)
+        self.cancel_sub = node.subscribe(ns + "/cancel", self._GoalID,
+                                         self._internal_cancel_callback, queue_size=sub_q)
+        deprecated = ns + "/status_frequency"
+        if node.has_param(deprecated):
+            freq = node.get_param(deprecated, 5.0)
+            misuse(node, ns, _DEPRECATED_FREQUENCY, level=WARN)
+        else:
+            key = node.search_param("actionlib_status_frequency")
+            freq = 5.0 if key is None else node.get_param(key, 5.0)
+        if isinstance(freq, bool) or not isinstance(freq, (int, float)):
+            misuse(node, ns, f"actionlib_status_frequency must be a number, got {freq!r}; "
+                   "using 5.0", level=WARN)
+            freq = 5.0
+        self.status_frequency = float(freq)
+        timeout = node.get_param(ns + "/status_list_timeout", 5.0)
+        if isinstance(timeout, bool) or not isinstance(timeout, (int, float)):
+            misuse(node, ns, f"{ns}/status_list_timeout must be a number of seconds, got "
+                   f"{timeout!r}; using 5.0", level=WARN)
+            timeout = 5.0
+        self._goals = ServerGoals(self._goals.trackers, self._goals.last_cancel,
+                                  Duration.from_sec(float(timeout)).to_nsec(),
+                                  self._goals.created)
+        if self.status_frequency > 0.0:
+            period = Duration.from_sec(1.0 / self.status_frequency)
+            self.status_timer = node.create_timer(period, self._publish_status_async)
+
+    def stop(self) -> None:
+        """Stop the server: its topics and timer go away (rospy ``stop``)."""
+        if not self.started:
+            return
+        self.started = False
+        self._stopped = True
+        for ent in (self.status_timer, self.goal_sub, self.cancel_sub, self.status_pub,
+                    self.feedback_pub, self.result_pub):
+            if ent is not None:
+                ent.shutdown()
+        self.status_timer = None
+        self.node.world.record("action.server.stop", self.node.name, ns=self.ns)
+
+    def shutdown(self) -> None:
+        """The node is shutting down."""
+        self.stop()
+        self.node._remove_entity(self)
+
+    # -- publishing -----------------------------------------------------------------------
+    def _now(self) -> int:
+        return self.node.clock.now_ns()
+
+    def _status_msg(self, t: GoalTracker) -> Any:
+        return self._GoalStatus(goal_id=self._GoalID(stamp=new_time(t.stamp), id=t.goal_id),
+                                status=int(t.status), text=t.text)
+
+    def _can_publish(self, what: str) -> bool:
+        if self.node.is_shutdown():
+            return False  # rospy: ``if not rospy.is_shutdown(): publish``
+        if not self.started:
+            if self._stopped:
+                raise ROSActionException(
+                    f"publish() to an unregistered() handle: cannot {what} for {self.ns}, the "
+                    "action server was stopped; call start() again or finish goals before stop()")
+            raise ROSActionException(
+                f"cannot {what} for {self.ns}: the action server is not started; call start()")
+        return True
+
+    def publish_status(self) -> None:
+        """Publish the status array now, pruning expired entries (rospy ``publish_status``)."""
+        if not self.started:
+            misuse(self.node, self.ns, f"publish_status() on {self.ns} ignored: the action "
+                   "server is not started; call start()", level=WARN)
+            return
+        out = publish_status(self._goals, self._now())
+        self._commit(out.goals, (out.publication,), None)
+
+    def _publish_status_async(self, _event: TimerEvent) -> None:
+        if self.started:
+            out = publish_status(self._goals, self._now())
+            self._commit(out.goals, (out.publication,), None)
+
+    def _commit(self, goals: ServerGoals, pubs: tuple[Publication, ...], result: Any) -> None:
+        """Adopt the core's new state, sync the handles, forward its publications in order."""
+        self._goals = goals
+        handles = self._handles
+        live: set[int] = set()
+        for t in goals.trackers:
+            live.add(t.serial)
+            h = handles.get(t.serial)
+            if h is not None:
+                h._tracker = t
+        if len(live) != len(handles):
+            for serial in [s for s in handles if s not in live]:
+                del handles[serial]
+        if not pubs or self.node.is_shutdown():
+            return
+        for p in pubs:
+            stamp = new_time(p.stamp)
+            if p.topic is PublicationTopic.STATUS:
+                arr = self._GoalStatusArray()
+                arr.header.stamp = stamp
+                arr.status_list = [self._status_msg(t) for t in p.statuses]
+                assert self.status_pub is not None
+                self.status_pub.publish(arr)
+            else:
+                ar = self.ActionResult()
+                ar.header.stamp = stamp
+                ar.status = self._status_msg(p.statuses[0])
+                ar.result = self.ActionResultType() if result is None else result
+                assert self.result_pub is not None
+                self.result_pub.publish(ar)
+
+    # -- goal handle calls ----------------------------------------------------------------
+    def _event(self, gh: ServerGoalHandle, event: ServerEvent, result: Any,
+               text: str) -> ServerTransition | None:
+        node = self.node
+        t = gh._tracker
+        if gh.goal is None or t is None:
+            if event is not ServerEvent.CANCEL_REQUEST:
+                misuse(node, self.ns, UNINITIALIZED_HANDLE_TEXT, method=event.ros_method)
+            return None
+        if not isinstance(text, str):
+            raise DdesTypeError(f"{event.ros_method}: text must be a str, got {text!r}")
+        if result is not None:
+            check_message(result, self.ActionResultType, f"{event.ros_method}: the result",
+                          f"pass a {self.ActionResultType.__name__}() or None")
+        self._can_publish(event.ros_method)
+        out = apply_goal_event(self._goals, t, event, self._now(), text)
+        tr = out.transition
+        gh._tracker = out.tracker
+        if tr.legal:
+            node.world.record("action.server.transition", node.name, ns=self.ns, id=t.goal_id,
+                              event=event.ros_method, before=tr.before.name, after=tr.after.name,
+                              text=text)
+        elif tr.error is not None:
+            self._illegal(t.goal_id, tr)
+        self._commit(out.goals, out.publications, result)
+        return tr
+
+    def _illegal(self, goal_id: str, tr: ServerTransition) -> None:
+        self.illegal_transitions += 1
+        node = self.node
+        node.world.record("action.server.illegal", node.name, ns=self.ns, id=goal_id,
+                          event=tr.event.ros_method, state=tr.before.name, error=tr.error)
+        node.logerr(tr.error)
+
+    def _feedback(self, gh: ServerGoalHandle, feedback: Any) -> None:
+        node = self.node
+        t = gh._tracker
+        if gh.goal is None or t is None:
+            misuse(node, self.ns, "Attempt to publish feedback on an uninitialized ServerGoalHandle")
+            return
+        check_message(feedback, self.types.feedback, "publish_feedback: the feedback",
+                      f"pass a {self.types.feedback.__name__}()")
+        if not self._can_publish("publish feedback"):
+            return
+        if t.status in TERMINAL_STATUSES:
+            node.world.record("action.misuse", node.name, ns=self.ns, level="WARN",
+                              text=f"feedback for goal {t.goal_id} published after its terminal "
+                                   f"state {t.status.name} (ROS publishes it too)")
+        af = self.ActionFeedback()
+        af.header.stamp = new_time(self._now())
+        af.status = self._status_msg(t)
+        af.feedback = feedback
+        node.world.record("action.server.feedback", node.name, ns=self.ns, id=t.goal_id,
+                          status=t.status.name)
+        assert self.feedback_pub is not None
+        self.feedback_pub.publish(af)
+
+    def _handle(self, tracker: GoalTracker, goal: Any) -> ServerGoalHandle:
+        h = self._handles.get(tracker.serial)
+        if h is None:
+            h = self._handles[tracker.serial] = ServerGoalHandle(self, tracker, goal)
+        return h
+
+    # -- incoming messages ----------------------------------------------------------------
+    def _internal_goal_callback(self, goal: Any) -> Any:
+        node = self.node
+        if not self.started:
+            misuse(node, self.ns, f"goal {goal.goal_id.id!r} ignored: the action server {self.ns} "
+                   "is not started (call start())", level=WARN)
+            return None
+        out = receive_goal(self._goals, goal.goal_id.id, goal.goal_id.stamp.to_nsec(), self._now(),
+                           self._ids)
+        t = out.tracker
+        node.world.record("action.server.goal", node.name, ns=self.ns, id=t.goal_id,
+                          stamp=t.stamp, arrival=out.arrival.value)
+        if out.arrival is GoalArrival.NEW or out.arrival is GoalArrival.CANCELED_BY_STAMP:
+            gh = self._handle(t, goal)
+        tr = out.transition
+        if tr is not None and tr.legal:
+            node.world.record("action.server.transition", node.name, ns=self.ns, id=t.goal_id,
+                              event=tr.event.ros_method, before=tr.before.name,
+                              after=tr.after.name, text=t.text)
+        elif out.arrival is GoalArrival.DUPLICATE_RECALLED:
+            node.world.record("action.server.transition", node.name, ns=self.ns, id=t.goal_id,
+                              event="goal_after_cancel", before=GoalStatus.RECALLING.name,
+                              after=GoalStatus.RECALLED.name, text=t.text)
+        self._commit(out.goals, out.publications, None)
+        if out.call_goal_callback:
+            return run_user_callbacks([(self.goal_callback, (gh,))])
+        return None
+
+    def _internal_cancel_callback(self, goal_id: Any) -> Any:
+        node = self.node
+        if not self.started:
+            misuse(node, self.ns, f"cancel request {goal_id.id!r} ignored: the action server "
+                   f"{self.ns} is not started (call start())", level=WARN)
+            return None
+        request = CancelRequest(goal_id.id, goal_id.stamp.to_nsec())
+        before = {t.goal_id: t for t in self._goals.trackers}
+        out = receive_cancel(self._goals, request, self._now())
+        node.world.record("action.server.cancel", node.name, ns=self.ns, id=request.id,
+                          stamp=request.stamp, matched=list(out.matched),
+                          requested=list(out.cancel_requested),
+                          placeholder=out.placeholder is not None)
+        for tr, gid in zip([x for x in out.transitions if x.legal], out.cancel_requested):
+            node.world.record("action.server.transition", node.name, ns=self.ns, id=gid,
+                              event=tr.event.ros_method, before=tr.before.name,
+                              after=tr.after.name, text=before[gid].text if gid in before else "")
+        self._commit(out.goals, out.publications, None)
+        calls: list[tuple[Callable[..., Any] | None, tuple[Any, ...]]] = []
+        for gid in out.cancel_requested:
+            h = next((h for h in self._handles.values() if h._id() == gid), None)
+            if h is not None:
+                calls.append((self.cancel_callback, (h,)))
+        return run_user_callbacks(calls)
