@@ -44,6 +44,7 @@ __all__ = [
     "ROSTimeMovedBackwardsException",
     "ROSTopicException",
     "ServiceException",
+    "ServiceTimeout",
     "WorldError",
 ]
 
@@ -133,6 +134,10 @@ class ServiceException(DdesError):
 
     As in rospy it is *not* a subclass of ROSException.
     """
+
+
+class ServiceTimeout(ServiceException):
+    """A service call timed out (a ddes extension: ROS 1 calls have no timeout)."""
 
 
 class ROSServiceException(ROSException):

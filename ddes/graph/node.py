@@ -46,6 +46,7 @@ from ddes.time.timer import Timer, TimerEvent
 if TYPE_CHECKING:
     from ddes.graph.topics import Publisher, Subscriber
     from ddes.kernel.world import World
+    from ddes.services.server import Service
 
 __all__ = ["Node"]
 
@@ -391,6 +392,18 @@ class Node:
         from ddes.graph.waiting import wait_for_message
 
         return wait_for_message(self, topic, data_class, timeout)
+
+    def advertise_service(self, name: str, service_class: Any, handler: Callable[..., Any],
+                          **kwargs: Any) -> Service:
+        """A :class:`~ddes.services.server.Service` (rospy.Service; roscpp advertiseService).
+
+        ``style="roscpp"`` for ``handler(req, resp) -> bool`` callbacks.
+        """
+        from ddes.services.server import Service
+
+        return Service(self, name, service_class, handler, **kwargs)
+
+    create_service = advertise_service
 
     # -- parameters --------------------------------------------------------------------------------
     def get_param(self, name: str, default: Any = _UNSET) -> Any:

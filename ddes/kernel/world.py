@@ -34,6 +34,7 @@ if TYPE_CHECKING:
     from ddes.graph.master import Master
     from ddes.graph.node import Node
     from ddes.graph.params import ParamServer
+    from ddes.services.network import ServiceNetwork
 
 __all__ = ["NsEnvironment", "World", "to_ns"]
 
@@ -101,6 +102,7 @@ class World:
         self.log_output: Callable[[str, int], Any] | None = None
         self._links: list[tuple[tuple[str | None, str | None, str | None], Any]] = []
         self._master: Any = None
+        self._service_network: Any = None
 
     # -- time -----------------------------------------------------------------
     @property
@@ -308,6 +310,25 @@ class World:
                  for k in ("sent", "lost", "received", "dropped", "delivered")}
         return {"topic": topic, "type": entry.type,
                 "published": sum(p.seq for p in entry.publishers), **total, "connections": per}
+
+    # -- services (ddes.services) -------------------------------------------------------------
+    @property
+    def service_network(self) -> ServiceNetwork:
+        """Service links, statistics and waiters (:class:`ddes.services.ServiceNetwork`)."""
+        if self._service_network is None:
+            from ddes.services.network import ServiceNetwork
+
+            self._service_network = ServiceNetwork(self)
+        return self._service_network  # type: ignore[no-any-return]
+
+    def set_service_link(self, service: str | None = None, *, client: str | None = None,
+                         latency: Any = 0.0001) -> None:
+        """Set the one-way latency of service messages (default 0.1 ms; see ddes.services.network)."""
+        self.service_network.set_link(service, client=client, latency=latency)
+
+    def service_stats(self, service: str) -> dict[str, Any]:
+        """Calls, successes, failures by reason, discards and latency of ``service``."""
+        return self.service_network.stats(service)
 
     def get_use_sim_time(self) -> bool:
         """The ``/use_sim_time`` setting that new nodes read."""

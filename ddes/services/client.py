@@ -1,0 +1,390 @@
+"""Service clients: ``ServiceProxy`` (rospy) and ``ServiceClient`` (roscpp).
+
+``resp = yield proxy.call(req)`` (or ``proxy(req)``, ``proxy(1, 2)``,
+``proxy(a=1, b=2)``): the event's value is the response; a failure raises
+:class:`~ddes.errors.ServiceException` in the caller with rospy's text:
+
+* ``service [X] unavailable``: nothing is registered under the name;
+* ``unable to connect to service: ...``: the server went away before the
+  connection was made, or the md5sums differ;
+* ``service [X] responded with an error: <text>``: the server answered
+  with ok byte 0 (handler error, roscpp callback returned false);
+* ``transport error completing service call: ...``: the server shut down
+  while the call was in progress;
+* a persistent proxy whose server went away fails every later call and says
+  so (create a new proxy, as in ROS).
+
+A request of the wrong type raises TypeError and a bad field
+ROSSerializationException, at once, from ``call()`` itself.  If the
+calling node shuts down during a call, the event fails with
+``ROSInterruptException("node shutdown interrupted service call")``.
+
+**Call timeout (a ddes extension).**  ROS 1 service calls have no timeout
+(ros/ros_comm#152; PR #1282 was closed).  ``proxy.call(req, timeout=0.5)``
+or ``ServiceProxy(..., timeout=0.5)`` makes the call fail with
+:class:`~ddes.errors.ServiceTimeout` (a ServiceException) after that much
+ROS time of the calling node.  As the ros_comm#152 discussion points out, the
+server is not told: it finishes its work, and its late response is
+discarded and traced (``service.discard``).  The connection is closed; a
+persistent proxy opens a new one on its next call.  If the request type has
+a field called ``timeout``, ``timeout=`` fills that field instead; use the
+proxy-level default then.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from simpy.events import Timeout
+
+from ddes.errors import ROSInterruptException, ServiceException, ServiceTimeout
+from ddes.services.convert import args_kwds_to_request, check_service_class
+from ddes.services.server import check_service_name
+from ddes.services.transport import PendingCall, ServiceConnection, serialize
+from ddes.services.waiting import timeout_ns, wait_for_service, wait_for_service_ns
+from ddes.time.sleep import duration_ns
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.graph.node import Node
+    from ddes.msg.message import Message
+
+__all__ = ["ServiceClient", "ServiceProxy"]
+
+_UNSET: Any = object()
+_DISCARD_KEYS = ("service", "call", "client", "reason")
+_TRANSPORT_ERROR = ("transport error completing service call: unable to receive data from sender, "
+                    "check sender's logs for details")
+
+
+class ServiceProxy:
+    """A handle to call a ROS service (rospy.ServiceProxy), owned by ``node``.
+
+    ``persistent=True`` keeps one connection open across calls (no header
+    exchange after the first call) until :meth:`close`.  ``timeout`` is the
+    default call timeout (seconds or Duration of ROS time; a ddes extension).
+    """
+
+    def __init__(self, node: Node, name: str, service_class: Any, persistent: bool = False,
+                 headers: dict[str, str] | None = None, *, timeout: Any = None) -> None:
+        node._check_alive("create a service proxy")
+        check_service_name(name, "ServiceProxy")
+        check_service_class(service_class, f"ServiceProxy {name!r}")
+        self.node = node
+        self.world = node.world
+        self.resolved_name = node.resolve_name(name)
+        self.service_class = service_class
+        self.request_class: type[Message] = service_class._request_class
+        self.response_class: type[Message] = service_class._response_class
+        self.persistent = bool(persistent)
+        self.headers = dict(headers or {})
+        if self.persistent:
+            self.headers["persistent"] = "1"
+        self.timeout_ns = timeout_ns(timeout, "timeout")
+        self.seq = 0
+        self._transport: ServiceConnection | None = None
+        self._closed = False
+        self._pending: dict[int, PendingCall] = {}
+        self._field_timeout = "timeout" in self.request_class.__slots__
+        node._add_entity(self)
+
+    # -- calling --------------------------------------------------------------------------
+    def call(self, *args: Any, timeout: Any = _UNSET, **kwds: Any) -> simpy.Event:
+        """Call the service; ``yield`` the event for the response (see module docstring)."""
+        if timeout is not _UNSET and self._field_timeout:
+            kwds["timeout"] = timeout
+            timeout = _UNSET
+        ns = self.timeout_ns if timeout is _UNSET else timeout_ns(timeout, "timeout")
+        return self._start(args, kwds, ns).event
+
+    __call__ = call
+
+    def _start(self, args: tuple[Any, ...], kwds: dict[str, Any], ns: int | None) -> PendingCall:
+        node = self.node
+        node._check_alive("call a service")
+        if len(args) == 1 and not kwds and type(args[0]) is self.request_class:
+            request = args[0]
+        else:
+            request = args_kwds_to_request(self.request_class, args, kwds)
+        data = serialize(request)
+        world = self.world
+        name = self.resolved_name
+        stats = world.service_network.stats_for(name)
+        stats.calls += 1
+        self.seq += 1
+        call = PendingCall(self, data, world.env.event(), stats)
+        call.trace_call(request)
+        self._pending[call.id] = call
+        if ns is not None:
+            self._arm_timeout(call, ns)
+        conn = self._transport
+        if conn is not None:
+            call.conn = conn
+            if conn.closed:
+                self._transport = None
+                call.fail("closed", ServiceException(
+                    f"persistent connection to service [{name}] was closed: the server went "
+                    "away; create a new ServiceProxy"))
+            elif not conn.ready:
+                pass  # header exchange in progress: the request leaves once it is done
+            else:
+                self._send_request(conn, call, world.env._now)  # type: ignore[arg-type]
+            return call
+        if self._closed:
+            call.fail("closed", ServiceException(
+                f"persistent ServiceProxy for service [{name}] was closed; create a new one"))
+            return call
+        entry = world.master.lookup_service(name)
+        if entry is None:
+            call.fail("unavailable", ServiceException(f"service [{name}] unavailable"))
+            return call
+        conn = ServiceConnection(self, entry.server, world.service_network.link(name, node.name))
+        call.conn = conn
+        if self.persistent:
+            self._transport = conn
+        ev = Timeout(world.env, conn.link.sample(), (conn, entry.server))
+        ev.callbacks.append(self._on_header)
+        return call
+
+    def _arm_timeout(self, call: PendingCall, ns: int) -> None:
+        clock = self.node.clock
+        ev = clock.wait_until(clock.now_ns() + ns)
+        ev.callbacks.append(lambda _ev: self._expire(call, ns))
+
+    # -- hops (see ddes.services.transport) ---------------------------------------------------
+    def _calls_on(self, conn: ServiceConnection) -> list[PendingCall]:
+        return [c for c in self._pending.values() if c.conn is conn and not c.done]
+
+    def _on_header(self, ev: Any) -> None:
+        """The connection header reached the server: accepted or refused."""
+        conn, server = ev._value
+        if conn.closed:
+            return  # the client gave up before connecting
+        waiting = self._calls_on(conn)
+        error = server._accept(conn)
+        back = conn.link.sample()
+        now: int = self.world.env._now  # type: ignore[assignment]
+        if error is not None:
+            conn.closed = True
+            if self._transport is conn:
+                self._transport = None
+            fail = Timeout(self.world.env, back, (conn, error))
+            fail.callbacks.append(self._on_refused)
+            return
+        conn.ready = True
+        for call in waiting:
+            self._send_request(conn, call, now + back)
+
+    def _on_refused(self, ev: Any) -> None:
+        conn, error = ev._value
+        for call in self._calls_on(conn):
+            call.fail("connect", ServiceException(f"unable to connect to service: {error}"))
+
+    def _send_request(self, conn: ServiceConnection, call: PendingCall, sent_at: int) -> None:
+        """The request leaves the client at ``sent_at`` (FIFO per connection)."""
+        call.sent_at = sent_at
+        now: int = self.world.env._now  # type: ignore[assignment]
+        at = sent_at + conn.link.sample()
+        if at < conn.last_request:
+            at = conn.last_request
+        conn.last_request = at
+        ev = Timeout(self.world.env, at - now, (conn, call))
+        ev.callbacks.append(self._on_request)
+
+    def _on_request(self, ev: Any) -> None:
+        conn, call = ev._value
+        if 0 <= call.gave_up_at < call.sent_at:
+            return  # the client gave up before the request was sent
+        conn.server._on_request(conn, call)
+
+    def _send_response(self, conn: ServiceConnection, call: PendingCall, ok: bool, payload: Any) -> None:
+        """Called by the server: the response (or error text) travels back."""
+        now: int = self.world.env._now  # type: ignore[assignment]
+        at = now + conn.link.sample()
+        if at < conn.last_response:
+            at = conn.last_response
+        conn.last_response = at
+        ev = Timeout(self.world.env, at - now, (call, ok, payload))
+        ev.callbacks.append(self._on_response)
+
+    def _on_response(self, ev: Any) -> None:
+        call, ok, payload = ev._value
+        if call.done:
+            call.stats.discarded += 1
+            world = self.world
+            world.trace.record_fast((world.env._now, "service.discard", self.node.name,
+                                     _DISCARD_KEYS, self.resolved_name, call.id, self.node.name,
+                                     "client gave up"))
+            return
+        if ok:
+            call.succeed(payload)
+        else:
+            call.server_text = payload
+            call.fail("server", ServiceException(
+                f"service [{self.resolved_name}] responded with an error: {payload}"))
+
+    def _transport_error(self, call: PendingCall) -> None:
+        """The server went away during ``call``: the client learns it one latency later."""
+        conn = call.conn
+        assert conn is not None
+        ev = Timeout(self.world.env, conn.link.sample(), call)
+        ev.callbacks.append(self._on_transport_error)
+
+    def _on_transport_error(self, ev: Any) -> None:
+        call = ev._value
+        if not call.done:
+            call.fail("transport", ServiceException(_TRANSPORT_ERROR))
+
+    def _expire(self, call: PendingCall, ns: int) -> None:
+        if call.done:
+            return
+        call.gave_up_at = self.world.env._now  # type: ignore[assignment]
+        conn = call.conn
+        call.fail("timeout", ServiceTimeout(
+            f"service [{self.resolved_name}] call timed out after {ns / 1e9:g} s of ROS time "
+            "(a ddes extension: ROS 1 calls have no timeout); the server was not told and "
+            "its late response will be discarded"))
+        if conn is not None and not conn.closed:
+            if self._transport is conn:
+                self._transport = None
+            conn.close()
+            for other in self._calls_on(conn):
+                other.gave_up_at = call.gave_up_at
+                other.fail("transport", ServiceException(_TRANSPORT_ERROR))
+
+    # -- waiting, closing --------------------------------------------------------------------
+    def wait_for_service(self, timeout: Any = None) -> simpy.Event:
+        """:func:`~ddes.services.waiting.wait_for_service` for this proxy's service."""
+        return wait_for_service(self.node, self.resolved_name, timeout)
+
+    def close(self) -> None:
+        """Close a persistent proxy's connection (no effect on non-persistent ones, as rospy).
+
+        Calls still waiting on it fail with a transport error; later calls
+        fail too: create a new proxy.
+        """
+        if not self.persistent:
+            return
+        self._closed = True
+        conn = self._transport
+        self._transport = None
+        if conn is not None and not conn.closed:
+            conn.close()
+            for call in self._calls_on(conn):
+                call.gave_up_at = self.world.env._now  # type: ignore[assignment]
+                call.fail("transport", ServiceException(_TRANSPORT_ERROR))
+
+    def shutdown(self) -> None:
+        """The node shut down: pending calls fail with ROSInterruptException."""
+        now: int = self.world.env._now  # type: ignore[assignment]
+        for call in list(self._pending.values()):
+            if not call.done:
+                call.gave_up_at = now
+                if call.conn is not None:
+                    call.conn.close()
+                call.fail("interrupted", ROSInterruptException("node shutdown interrupted service call"))
+        if self._transport is not None:
+            self._transport.close()
+            self._transport = None
+        self._closed = True
+        self.node._remove_entity(self)
+
+    def __repr__(self) -> str:
+        kind = "persistent " if self.persistent else ""
+        return f"<ServiceProxy {kind}{self.resolved_name} [{self.service_class._type}] of {self.node.name}>"
+
+
+class ServiceClient:
+    """roscpp's ``ros::ServiceClient``: ``ok = yield client.call(req, resp)``.
+
+    The event's value is True with ``resp`` filled in place, or False for
+    any failure (an error the server sent is also logged, as roscpp:
+    ``Service call failed: service [X] responded with an error: <text>``).
+    A roscpp server whose callback returned false sends an empty error, so
+    the call is False and nothing is logged.
+    """
+
+    def __init__(self, node: Node, name: str, service_class: Any, persistent: bool = False,
+                 *, timeout: Any = None) -> None:
+        self._proxy = ServiceProxy(node, name, service_class, persistent, timeout=timeout)
+        self.node = node
+
+    @property
+    def resolved_name(self) -> str:
+        return self._proxy.resolved_name
+
+    def get_service(self) -> str:
+        """The resolved service name (``getService()``)."""
+        return self._proxy.resolved_name
+
+    def is_persistent(self) -> bool:
+        return self._proxy.persistent
+
+    def is_valid(self) -> bool:
+        """False once a persistent client's connection was lost or shut down (``isValid()``)."""
+        proxy = self._proxy
+        if not proxy.persistent:
+            return not proxy._closed
+        conn = proxy._transport
+        return not proxy._closed and (conn is None or not conn.closed)
+
+    def exists(self) -> bool:
+        """Is the service registered now (``exists()``)."""
+        return self.node.world.master.lookup_service(self._proxy.resolved_name) is not None
+
+    def call(self, request: Message, response: Message, *, timeout: Any = _UNSET) -> simpy.Event:
+        """Call; the event's value is True (``response`` filled) or False."""
+        proxy = self._proxy
+        ns = proxy.timeout_ns if timeout is _UNSET else timeout_ns(timeout, "timeout")
+        pending = proxy._start((request,), {}, ns)
+        result = self.node.world.env.event()
+
+        def done(ev: Any) -> None:
+            if ev.ok:
+                for slot in response.__slots__:
+                    setattr(response, slot, getattr(ev.value, slot))
+                result.succeed(True)
+                return
+            ev.defused = True
+            if pending.server_text:
+                self.node.logerr("Service call failed: service [%s] responded with an error: %s",
+                                 proxy.resolved_name, pending.server_text)
+            result.succeed(False)
+
+        pending.event.callbacks.append(done)
+        return result
+
+    def wait_for_existence(self, timeout: Any = None) -> simpy.Event:
+        """roscpp ``waitForExistence``: event with value True, or False after ``timeout``.
+
+        ``timeout`` (seconds or Duration of ROS time) None or negative waits
+        for ever; 0 checks once.  Logs roscpp's ``waitForService: Service [X]
+        has not been advertised, waiting...`` and ``... is now available.``
+        """
+        node = self.node
+        name = self._proxy.resolved_name
+        result = node.world.env.event()
+        if self.exists():
+            result.succeed(True)
+            return result
+        node.loginfo("waitForService: Service [%s] has not been advertised, waiting...", name)
+        ns = None if timeout is None else duration_ns(timeout, "timeout")
+        if ns == 0:
+            result.succeed(False)
+            return result
+        wait = wait_for_service_ns(node, name, ns if ns is not None and ns > 0 else None)
+
+        def done(ev: Any) -> None:
+            if ev.ok:
+                node.loginfo("waitForService: Service [%s] is now available.", name)
+            else:
+                ev.defused = True
+            result.succeed(bool(ev.ok))
+
+        wait.callbacks.append(done)
+        return result
+
+    def shutdown(self) -> None:
+        """Stop using this client (``shutdown()``)."""
+        self._proxy.shutdown()

@@ -1,0 +1,263 @@
+"""Service servers: ``Service(node, name, service_class, handler)`` (rospy.Service).
+
+Serving model.  Requests are run through the server node's callback queue,
+as roscpp does: with the default ``spinner="single"`` one request at a
+time, in the order they arrive; a generator handler (``yield
+node.sleep(0.5)``) takes simulated time and later requests wait behind it.
+rospy instead runs one thread per incoming connection, so its handlers can
+overlap; create the server node with ``spinner=N`` to serve up to N requests
+at once.  ``spinner="manual"`` serves them from ``yield node.spin_once()``.
+
+Handler styles:
+
+* ``style="rospy"`` (default): ``handler(request)`` returns the response,
+  converted by rospy's rules (:func:`~ddes.services.convert.convert_return_to_response`).
+  ``raise ServiceException("x")`` gives the client
+  ``"service cannot process request: x"``; any other exception gives
+  ``"error processing request: x"`` and is logged (``Error processing request: x``)
+  and traced (``service.exception``), or handed to ``error_handler(e,
+  exc_type, exc_value, tb)`` if one is given.
+* ``style="roscpp"``: ``handler(request, response) -> bool`` fills the
+  response it is given.  ``False`` fails the call with an empty error text (a
+  rospy client sees ``"service [X] responded with an error: "``, a roscpp
+  :class:`~ddes.services.client.ServiceClient` gets False); an exception
+  sends its text and logs ``Exception thrown while processing service call: x``.
+
+A failing handler never takes the server down.  Advertising a name that is
+already served raises ServiceException (``"service [X] already registered"``,
+rospy's text); an illegal name raises ROSNameException.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Generator
+from types import GeneratorType
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import DdesTypeError, DdesValueError, ServiceException
+from ddes.graph.names import check_name
+from ddes.services.convert import (
+    ROSCPP_EXCEPTION_LOG,
+    check_service_class,
+    convert_return_to_response,
+    roscpp_result,
+    server_error_text,
+)
+from ddes.services.transport import PendingCall, ServiceConnection, serialize
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.graph.node import Node
+    from ddes.msg.message import Message
+
+__all__ = ["Service"]
+
+_REQUEST_KEYS = ("service", "call", "client")
+_DISCARD_KEYS = ("service", "call", "client", "reason")
+_EXCEPTION_KEYS = ("service", "call", "error")
+_STYLES = ("rospy", "roscpp")
+
+
+def check_service_name(name: Any, what: str) -> str:
+    """rospy's non-empty-string check, then ROS name legality (ROSNameException)."""
+    if not isinstance(name, str) or not name:
+        raise DdesValueError(f"{what}: service name is not a non-empty string, got {name!r}")
+    return check_name(name, "service name")
+
+
+class Service:
+    """A service server on ``node`` (rospy.Service; roscpp ``advertiseService``).
+
+    It registers with the world's master at once and serves until
+    :meth:`shutdown` or until its node shuts down.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        name: str,
+        service_class: Any,
+        handler: Callable[..., Any],
+        buff_size: int = 65536,
+        error_handler: Callable[..., Any] | None = None,
+        *,
+        style: str = "rospy",
+    ) -> None:
+        node._check_alive("advertise a service")
+        check_service_name(name, "Service")
+        check_service_class(service_class, f"service {name!r}")
+        if not callable(handler):
+            raise DdesTypeError(f"service {name!r}: handler must be callable, got {handler!r}")
+        if style not in _STYLES:
+            raise DdesValueError(f"service {name!r}: style must be 'rospy' or 'roscpp', got {style!r}")
+        self.node = node
+        self.world = node.world
+        self.resolved_name = node.resolve_name(name)
+        self.service_class = service_class
+        self.request_class: type[Message] = service_class._request_class
+        self.response_class: type[Message] = service_class._response_class
+        self.type: str = service_class._type
+        self.md5sum: str = service_class._md5sum
+        self.handler = handler
+        self.error_handler = error_handler
+        self.style = style
+        self.buff_size = buff_size
+        self._closed = False
+        #: Open connections by id (closed with an error when the server goes away).
+        self._conns: dict[int, ServiceConnection] = {}
+        master = self.world.master
+        existing = master.lookup_service(self.resolved_name)
+        if existing is not None:
+            by = "" if existing.node is node else f" by node [{existing.node.name}]"
+            raise ServiceException(
+                f"service [{self.resolved_name}] already registered{by}; shut the other server "
+                "down first or choose another name"
+            )
+        net = self.world.service_network
+        #: The node's invented ROSRPC URI (``rosservice uri``).
+        self.uri = net.uri_for(node)
+        self._stats = net.stats_for(self.resolved_name)
+        master.register_service(self.resolved_name, self.type, self.md5sum, node, self)
+        node._add_entity(self)
+        self.world.record("service.advertise", node.name, service=self.resolved_name,
+                          type=self.type, style=style, uri=self.uri)
+        net.notify_registered(self.resolved_name)
+
+    # -- lifecycle ----------------------------------------------------------------------
+    def shutdown(self, reason: str = "") -> None:
+        """Stop serving: unregister, and close every connection (callers get an error)."""
+        if self._closed:
+            return
+        self._closed = True
+        self.world.master.unregister_service(self.resolved_name, self)
+        self.node._remove_entity(self)
+        self.world.record("service.unadvertise", self.node.name, service=self.resolved_name,
+                          reason=reason)
+        conns = list(self._conns.values())
+        self._conns.clear()
+        for conn in conns:
+            conn.server_gone = True
+            conn.closed = True
+            for call in list(conn.proxy._pending.values()):
+                if call.conn is conn and not call.responded and not call.done:
+                    conn.proxy._transport_error(call)
+
+    unregister = shutdown
+
+    def spin(self) -> simpy.Event:
+        """Event that fires when the node shuts down (rospy ``Service.spin``)."""
+        return self.node.spin()
+
+    # -- the connection handshake ---------------------------------------------------------
+    def _accept(self, conn: ServiceConnection) -> str | None:
+        """The error a new connection gets, or None when it is accepted."""
+        if self.node.is_shutdown():
+            return "[Errno 111] Connection refused"
+        if self._closed:
+            return (f"remote error reported: [{self.node.name}] is not a provider of  "
+                    f"[{conn.proxy.resolved_name}]")
+        md5 = conn.proxy.service_class._md5sum
+        if md5 != "*" and md5 != self.md5sum:
+            return (f"remote error reported: request from [{conn.proxy.node.name}]: md5sums do "
+                    f"not match: [{md5}] vs. [{self.md5sum}]")
+        self._conns[conn.id] = conn
+        return None
+
+    # -- serving ---------------------------------------------------------------------------
+    def _on_request(self, conn: ServiceConnection, call: PendingCall) -> None:
+        """A request arrived: queue it on the node's callback queue."""
+        if conn.server_gone:
+            return
+        world = self.world
+        world.trace.record_fast((world.env._now, "service.request", self.node.name, _REQUEST_KEYS,
+                                 self.resolved_name, call.id, conn.proxy.node.name))
+        cls = self.request_class
+        request = cls.__new__(cls)._deserialize_from(call.data)
+        self.node._invoke(self._serve, (conn, call, request), None, conn)
+
+    def _serve(self, conn: ServiceConnection, call: PendingCall, request: Message) -> Any:
+        self._stats.served += 1
+        response = None
+        try:
+            if self.style == "rospy":
+                result = self.handler(request)
+            else:
+                response = self.response_class()
+                result = self.handler(request, response)
+        except Exception as exc:  # noqa: BLE001 - becomes the client's error
+            self._handler_failed(conn, call, exc)
+            return None
+        if type(result) is GeneratorType:
+            return self._serve_generator(conn, call, result, response)
+        self._finish(conn, call, result, response)
+        return None
+
+    def _serve_generator(self, conn: ServiceConnection, call: PendingCall,
+                         gen: Generator[Any, Any, Any], response: Message | None
+                         ) -> Generator[Any, Any, None]:
+        try:
+            result = yield from gen
+        except Exception as exc:  # noqa: BLE001 - becomes the client's error
+            self._handler_failed(conn, call, exc)
+            return
+        self._finish(conn, call, result, response)
+
+    def _finish(self, conn: ServiceConnection, call: PendingCall, result: Any,
+                response: Message | None) -> None:
+        try:
+            if response is None:
+                msg = convert_return_to_response(result, self.response_class)
+            else:
+                if not roscpp_result(result):
+                    self._send(conn, call, False, "")
+                    return
+                msg = response
+            data = serialize(msg)
+        except ServiceException as exc:
+            if self.style == "roscpp":
+                self._handler_failed(conn, call, exc)
+            else:
+                self._send(conn, call, False, server_error_text(exc, self.style))
+            return
+        except Exception as exc:  # noqa: BLE001
+            self._handler_failed(conn, call, exc)
+            return
+        self._send(conn, call, True, data)
+
+    def _handler_failed(self, conn: ServiceConnection, call: PendingCall, exc: Exception) -> None:
+        if isinstance(exc, ServiceException) and self.style == "rospy":
+            self._send(conn, call, False, server_error_text(exc, self.style))
+            return
+        world = self.world
+        world.trace.record_fast((world.env._now, "service.exception", self.node.name,
+                                 _EXCEPTION_KEYS, self.resolved_name, call.id,
+                                 f"{type(exc).__name__}: {exc}"))
+        if self.style == "roscpp":
+            self.node.logerr(ROSCPP_EXCEPTION_LOG, str(exc))
+        elif self.error_handler is not None:
+            self.error_handler(exc, type(exc), exc, exc.__traceback__ or sys.exc_info()[2])
+        else:
+            self.node.logerr("Error processing request: %s", str(exc))
+        self._send(conn, call, False, server_error_text(exc, self.style))
+
+    def _send(self, conn: ServiceConnection, call: PendingCall, ok: bool, payload: Any) -> None:
+        """Send the response (or error) back, unless nobody is listening any more."""
+        if conn.server_gone or call.done:
+            reason = "server shut down" if conn.server_gone else "client gave up"
+            call.stats.discarded += 1
+            world = self.world
+            world.trace.record_fast((world.env._now, "service.discard", self.node.name,
+                                     _DISCARD_KEYS, self.resolved_name, call.id,
+                                     conn.proxy.node.name, reason))
+            return
+        call.responded = True
+        if not conn.persistent:
+            conn.closed = True
+            self._conns.pop(conn.id, None)
+        conn.proxy._send_response(conn, call, ok, payload)
+
+    def __repr__(self) -> str:
+        state = "closed" if self._closed else "serving"
+        return f"<Service {self.resolved_name} [{self.type}] on {self.node.name} {state}>"

@@ -1,0 +1,157 @@
+"""One service call on the wire: the connection and the pending call.
+
+A call goes through these hops, each one kernel event after the link
+latency ``L`` (drawn per message, see :mod:`ddes.services.network`):
+
+1. **header** (new connections only: every call of a non-persistent proxy,
+   the first call of a persistent one): client → server; the server checks
+   that it still serves the name and that the md5sums match, and answers
+   with its own header: server → client.  A failure here is
+   ``"unable to connect to service: ..."``.
+2. **request**: client → server, sent as soon as the client has the
+   server's header; it is queued on the server node's callback queue.
+3. **response** (ok byte + message, or ok byte 0 + error text): server →
+   client, sent when the handler finishes.
+
+So with the default 0.1 ms a call to an instant handler takes 0.4 ms on a
+new connection and 0.2 ms on an open persistent one.  When the server goes
+away its connections close: a client waiting for a response learns it one
+latency later (``"transport error completing service call: ..."``).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import ROSSerializationException
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.msg.message import Message
+    from ddes.services.client import ServiceProxy
+    from ddes.services.network import ServiceLink, ServiceStats
+    from ddes.services.server import Service
+
+__all__ = ["PendingCall", "ServiceConnection", "serialize"]
+
+_CALL_KEYS = ("service", "call", "persistent", "request")
+_RESPONSE_KEYS = ("service", "call", "latency", "response")
+_ERROR_KEYS = ("service", "call", "latency", "reason", "error")
+
+
+def serialize(msg: Message) -> bytes:
+    """Wire bytes of ``msg``; a bad field raises ROSSerializationException naming it."""
+    try:
+        return msg._serialize_to_bytes()
+    except Exception as exc:  # noqa: BLE001 - re-raised with the field that was wrong
+        from ddes.msg.message import serialize_checked
+
+        try:
+            return serialize_checked(msg)
+        except ROSSerializationException:
+            raise
+        except Exception:  # noqa: BLE001
+            raise ROSSerializationException(f"cannot serialize {type(msg).__name__}: {exc}") from exc
+
+
+class ServiceConnection:
+    """A client's TCPROS connection to one server (one call, or many if persistent)."""
+
+    __slots__ = ("id", "proxy", "server", "link", "persistent", "ready", "server_gone", "closed",
+                 "last_request", "last_response", "_in_progress")
+
+    def __init__(self, proxy: ServiceProxy, server: Service, link: ServiceLink) -> None:
+        self.id = proxy.world.next_id("service_connection")
+        self.proxy = proxy
+        self.server = server
+        self.link = link
+        self.persistent = proxy.persistent
+        #: The header exchange is done: requests may be sent.
+        self.ready = False
+        #: The server shut down: nothing more crosses this connection.
+        self.server_gone = False
+        #: Either end closed it.
+        self.closed = False
+        #: Arrival times of the last request / response (TCP keeps them in order).
+        self.last_request = 0
+        self.last_response = 0
+        #: A request of this connection is being served (one at a time per connection).
+        self._in_progress = False
+
+    def close(self) -> None:
+        """Close from the client side (the server forgets it)."""
+        self.closed = True
+        self.server._conns.pop(self.id, None)
+
+
+class PendingCall:
+    """One call from the moment ``call()`` returns its event until it is answered."""
+
+    __slots__ = ("id", "proxy", "event", "data", "t0", "conn", "done", "gave_up_at", "sent_at",
+                 "responded", "server_text", "stats")
+
+    def __init__(self, proxy: ServiceProxy, data: bytes, event: simpy.Event, stats: ServiceStats) -> None:
+        world = proxy.world
+        self.id = world.next_id("service_call")
+        self.proxy = proxy
+        self.event = event
+        self.data = data
+        self.t0: int = world.env._now  # type: ignore[assignment]
+        self.conn: ServiceConnection | None = None
+        self.done = False
+        #: Kernel time the client stopped waiting (timeout, shutdown), or -1.
+        self.gave_up_at = -1
+        #: Kernel time the request left the client, or -1 while unsent.
+        self.sent_at = -1
+        self.responded = False
+        #: The error text the server sent (ok byte 0), if it did.
+        self.server_text: str | None = None
+        self.stats = stats
+
+    def trace_call(self, request: Message) -> None:
+        proxy = self.proxy
+        trace = proxy.world.trace
+        if trace.enabled:
+            snapshot = _snapshot(request, self.data)
+            trace.record_fast((self.t0, "service.call", proxy.node.name, _CALL_KEYS,
+                               proxy.resolved_name, self.id, proxy.persistent, snapshot))
+        else:
+            trace.record_fast((self.t0, "service.call", proxy.node.name, _CALL_KEYS))
+
+    def succeed(self, data: bytes) -> None:
+        """The response arrived: deserialize the client's copy and wake the caller."""
+        self.done = True
+        proxy = self.proxy
+        proxy._pending.pop(self.id, None)
+        cls = proxy.response_class
+        response = cls.__new__(cls)._deserialize_from(data)
+        world = proxy.world
+        now: int = world.env._now  # type: ignore[assignment]
+        latency = now - self.t0
+        self.stats.add_latency(latency)
+        trace = world.trace
+        if trace.enabled:
+            trace.record_fast((now, "service.response", proxy.node.name, _RESPONSE_KEYS,
+                               proxy.resolved_name, self.id, latency, _snapshot(response, data)))
+        else:
+            trace.record_fast((now, "service.response", proxy.node.name, _RESPONSE_KEYS))
+        self.event.succeed(response)
+
+    def fail(self, reason: str, exc: Exception) -> None:
+        """The call failed for ``reason`` (see ERROR_KINDS): trace it and raise ``exc`` in the caller."""
+        self.done = True
+        proxy = self.proxy
+        proxy._pending.pop(self.id, None)
+        self.stats.errors[reason] += 1
+        world = proxy.world
+        now: int = world.env._now  # type: ignore[assignment]
+        world.trace.record_fast((now, "service.error", proxy.node.name, _ERROR_KEYS,
+                                 proxy.resolved_name, self.id, now - self.t0, reason, str(exc)))
+        self.event.fail(exc)
+
+
+def _snapshot(msg: Message, data: bytes) -> Any:
+    """An independent copy of ``msg`` for the trace (what went over the wire)."""
+    cls = type(msg)
+    return cls.__new__(cls)._deserialize_from(data)

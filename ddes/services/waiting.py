@@ -1,0 +1,98 @@
+"""``wait_for_service`` as an event on the node's ROS time.
+
+rospy polls the master and probes the server every 0.3 s of *wall* time and
+measures its timeout on the wall clock; roscpp polls every 20 ms.  ddes
+needs no polling: the event fires at the very instant the service is
+registered (or at once if it already is), and the timeout runs on the
+node's ROS time, so it lands on an exact simulated instant.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import DdesValueError, ROSException, ROSInterruptException
+from ddes.services.server import check_service_name
+from ddes.time.sleep import duration_ns
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.graph.node import Node
+
+__all__ = ["timeout_ns", "wait_for_service", "wait_for_service_ns"]
+
+
+def timeout_ns(timeout: Any, what: str = "timeout") -> int | None:
+    """A timeout (seconds or Duration) as ns; None stays None; 0 raises ValueError (rospy)."""
+    if timeout is None:
+        return None
+    ns = duration_ns(timeout, what)
+    if ns == 0:
+        raise DdesValueError("timeout must be non-zero")
+    return ns
+
+
+class _Waiter:
+    """One pending wait; a node entity so that shutdown interrupts it."""
+
+    __slots__ = ("node", "name", "event")
+
+    def __init__(self, node: Node, name: str, event: simpy.Event) -> None:
+        self.node = node
+        self.name = name
+        self.event = event
+
+    def registered(self) -> None:
+        if not self.event.triggered:
+            self.node._remove_entity(self)
+            self.event.succeed(None)
+
+    def expire(self, _ev: Any = None) -> None:
+        if not self.event.triggered:
+            self._stop()
+            self.event.fail(ROSException(f"timeout exceeded while waiting for service {self.name}"))
+
+    def shutdown(self) -> None:
+        if not self.event.triggered:
+            self._stop()
+            self.event.fail(ROSInterruptException("rospy shutdown"))
+
+    def _stop(self) -> None:
+        self.node._remove_entity(self)
+        self.node.world.service_network.remove_waiter(self.name, self.registered)
+
+
+def wait_for_service(node: Node, service: str, timeout: Any = None) -> simpy.Event:
+    """Event that fires once ``service`` is available (rospy.wait_for_service).
+
+    ``service`` is resolved with ``node``'s namespace and remappings.
+    ``timeout`` (seconds or Duration, ROS time of ``node``) makes the event
+    fail with ``ROSException("timeout exceeded while waiting for service
+    /name")``; ``timeout=0`` raises ValueError at once, as rospy; a negative
+    timeout fails at once (rospy's loop never runs).  If the node shuts down
+    first the event fails with ``ROSInterruptException("rospy shutdown")``.
+    """
+    check_service_name(service, "wait_for_service")
+    ns = timeout_ns(timeout)
+    node._check_alive("wait for a service")
+    return wait_for_service_ns(node, node.resolve_name(service), ns)
+
+
+def wait_for_service_ns(node: Node, name: str, ns: int | None) -> simpy.Event:
+    """:func:`wait_for_service` for a resolved ``name`` and a timeout in ns (None: for ever)."""
+    world = node.world
+    event = world.env.event()
+    waiter = _Waiter(node, name, event)
+    if ns is not None and ns < 0:
+        waiter.expire()
+        return event
+    if world.master.lookup_service(name) is not None:
+        event.succeed(None)
+        return event
+    node._add_entity(waiter)
+    world.service_network.add_waiter(name, waiter.registered)
+    if ns is not None:
+        clock = node.clock
+        clock.wait_until(clock.now_ns() + ns).callbacks.append(waiter.expire)
+    return event
