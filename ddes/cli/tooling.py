@@ -43,7 +43,13 @@ __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", 
            "run_command_result", "tool_names"]
 
 #: Modules defining world-bound tools (``TOOLS = {"name": fn}``); one line per module.
-TOOL_MODULES: tuple[str, ...] = ()
+TOOL_MODULES: tuple[str, ...] = (
+    "ddes.cli.rosnode",
+    "ddes.cli.rosparam",
+    "ddes.cli.rosrun",
+    "ddes.cli.rosservice",
+    "ddes.cli.rostopic",
+)
 
 Tool = Callable[["ToolContext", list[str]], int]
 
@@ -102,7 +108,7 @@ class ToolContext:
                     raise ROSConsoleError(
                         f"the world has nothing left to do and the command is still waiting ({exc})"
                     ) from None
-        if not event.processed:
+        if not event.triggered:
             raise ROSConsoleError(f"timed out after {timeout} simulated seconds")
         if not event.ok:
             raise event.value  # type: ignore[misc]

@@ -1,0 +1,216 @@
+"""Session tools: ``rosrun``, ``roslaunch``, ``sleep``, ``time``, ``jobs`` and ``kill``.
+
+* ``rosrun [--quiet] PKG NODE [args...]`` starts a node type of a package
+  (``<pkg>/nodes.py``, see :mod:`ddes.nodes`) with a rosrun command line
+  (``chatter:=/talk``, ``_rate:=5``, ``__name:=t2``, ``__ns:=/r1``).  In ROS
+  it occupies a terminal until Ctrl+C; here the node runs in the world and
+  the prompt returns at once (``jobs`` lists it, ``kill %N`` or ``rosnode
+  kill`` stops it).  Its log lines print as it logs (``--quiet``: only
+  warnings and errors, as for a launch node without ``output="screen"``).
+* ``roslaunch [--duration S] PKG FILE.launch [arg:=value ...]`` or
+  ``roslaunch PATH [arg:=value ...]`` runs a launch file
+  (:class:`ddes.launch.runtime.LaunchRunner`) in the background of the
+  world; with ``--duration`` it runs for S simulated seconds and shuts down
+  as on Ctrl+C.
+* ``sleep SECONDS`` lets the world run (everything due up to and including
+  that instant happens); ``time`` prints the simulated time.
+* ``jobs`` lists what runs in the background (bash's format); ``kill %N``
+  stops job N.
+
+Time stands still between commands: starting a node runs only what is due
+at the current instant (its start-up, first publish, first log line).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from ddes.cli.toolkit import (
+    HelpPrinted,
+    Task,
+    ToolParser,
+    command_label,
+    job_alive,
+    job_stop,
+    parse_duration,
+    run_task,
+    settle,
+    take_background,
+)
+from ddes.errors import ROSConsoleError
+from ddes.graph.rosout import DEBUG, WARN
+from ddes.launch.runtime import LaunchRunner, LogRouter
+
+if TYPE_CHECKING:
+    from ddes.cli.tooling import Job, ToolContext
+    from ddes.kernel.world import World
+
+__all__ = ["TOOLS", "format_job", "jobs", "kill", "log_router", "roslaunch", "rosrun", "sleep",
+           "time"]
+
+
+def log_router(ctx: ToolContext) -> LogRouter:
+    """The world's :class:`LogRouter` printing through ``ctx`` (installed on first use)."""
+    world = ctx.world
+    current = world.log_output
+    if isinstance(current, LogRouter):
+        return current
+    return LogRouter(world, lambda line: ctx.print(line)).install()
+
+
+def rosrun(ctx: ToolContext, argv: list[str]) -> int:
+    """``rosrun [--quiet] PKG NODE [args...]``: start a node in the world (see module docstring)."""
+    from ddes.nodes import start_node
+
+    args, _background = take_background(argv)
+    quiet = False
+    while args and args[0] in ("-q", "--quiet", "-h", "--help"):
+        if args[0] in ("-h", "--help"):
+            ctx.print("Usage: rosrun [--quiet] PACKAGE EXECUTABLE [ARGS]\n"
+                      "  rosrun will locate PACKAGE and try to find\n"
+                      "  an executable named EXECUTABLE in the PACKAGE tree.\n"
+                      "  If it finds it, it will run it with ARGS.\n"
+                      "  ddes: --quiet prints only the node's warnings and errors.")
+            return 0
+        quiet = True
+        args.pop(0)
+    if len(args) < 2:
+        raise ROSConsoleError("rosrun needs a package and a node type: "
+                              "rosrun [--quiet] PACKAGE EXECUTABLE [ARGS]")
+    pkg, node_type, rest = args[0], args[1], args[2:]
+    world = ctx.world
+    router = log_router(ctx)
+    level = WARN if quiet else DEBUG
+    with router.starting(level):
+        node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest)
+    router.levels[node.name] = level
+    task = Task(world, command_label("rosrun", args))
+    task.own(node)
+    node.on_shutdown(lambda _reason: task.finish(0))
+    ctx.background(task.label, task)
+    settle(world)
+    return 0
+
+
+def roslaunch(ctx: ToolContext, argv: list[str]) -> int:
+    """``roslaunch [--duration S] PKG FILE.launch | PATH [arg:=value ...]`` (see module docstring)."""
+    from ddes.launch import load_launch, resolve_launch_args
+
+    args, background = take_background(argv)
+    parser = ToolParser(ctx, "usage: %prog [options] [package] <filename> [arg_name:=value...]",
+                        "roslaunch")
+    parser.add_option("--duration", dest="duration", default=None, metavar="SECONDS",
+                      help="ddes: run SECONDS of simulated time, then shut down as on Ctrl+C")
+    parser.add_option("--nodes", dest="node_list", default=False, action="store_true",
+                      help="Print list of node names in launch file")
+    parser.add_option("--args", dest="node_args", default=None, metavar="NODE_NAME",
+                      help="Print command-line arguments for node")
+    parser.add_option("--files", dest="file_list", default=False, action="store_true",
+                      help="Print files this launch file includes")
+    try:
+        options, rest = parser.parse_args(args)
+    except HelpPrinted:
+        return 0
+    duration = parse_duration(options.duration)
+    world = ctx.world
+    path, launch_args = resolve_launch_args(rest, ctx.rospack)
+    plan = load_launch(path, launch_args, ctx.rospack, anon_seed=world.rng_for("roslaunch"))
+    if options.node_list:
+        ctx.print("\n".join(n.full_name for n in plan.nodes))
+        return 0
+    if options.file_list:
+        ctx.print("\n".join(plan.files))
+        return 0
+    if options.node_args:
+        spec = plan.node(options.node_args)
+        ctx.print(" ".join([f"{spec.pkg}/{spec.type}", *spec.args,
+                            *(f"{a}:={b}" for a, b in spec.remappings),
+                            f"__name:={spec.name}"]))
+        return 0
+    runner = LaunchRunner(world, plan, rospack=ctx.rospack, out=lambda line: ctx.print(line),
+                          router=log_router(ctx))
+    task = Task(world, command_label("roslaunch", args))
+    task.on_stop(runner.shutdown)
+    runner.finished.callbacks.append(lambda _ev: task.finish(0))
+    runner.start()
+    settle(world)
+    if duration is None:
+        if not task.done:
+            job = ctx.background(task.label, task)
+            if background:
+                ctx.print(f"[{job.id}] {task.label}")
+        return 0
+    return run_task(ctx, task, background=background, duration=duration, waiting_for=None)
+
+
+def sleep(ctx: ToolContext, argv: list[str]) -> int:
+    """``sleep SECONDS``: let the world run that long (inclusive of the last instant)."""
+    if len(argv) != 1:
+        raise ROSConsoleError("sleep needs one argument: the simulated seconds to let pass")
+    try:
+        seconds = float(argv[0].rstrip("s"))
+    except ValueError:
+        raise ROSConsoleError(f"sleep: invalid time interval '{argv[0]}' (give seconds, "
+                              "e.g. sleep 1.5)") from None
+    if not seconds >= 0:
+        raise ROSConsoleError(f"sleep: invalid time interval '{argv[0]}' (must be >= 0)")
+    ctx.advance(seconds)
+    settle(ctx.world)
+    return 0
+
+
+def time(ctx: ToolContext, argv: list[str]) -> int:
+    """``time``: print the simulated time (seconds, to the nanosecond)."""
+    if argv:
+        raise ROSConsoleError("time takes no arguments; it prints the simulated time")
+    ctx.print(f"simulated time: {format_time(ctx.world)} s")
+    return 0
+
+
+def format_time(world: World) -> str:
+    """The world's time as ``secs.nanoseconds`` (``12.300000000``)."""
+    secs, nsecs = divmod(world.now, 1_000_000_000)
+    return f"{secs}.{nsecs:09d}"
+
+
+def format_job(job: Job, state: str) -> str:
+    """A ``jobs`` line in bash's layout: ``[1]  Running                 rostopic echo /t &``."""
+    return f"[{job.id}]  {state:<24}{job.name}"
+
+
+def jobs(ctx: ToolContext, argv: list[str]) -> int:
+    """``jobs``: list running background jobs, and those finished since the last listing."""
+    if argv:
+        raise ROSConsoleError("jobs takes no arguments")
+    for job in ctx.jobs:
+        proc: Any = job.process
+        if job_alive(job):
+            ctx.print(format_job(job, "Running") + " &")
+        elif not getattr(proc, "reported", False):
+            ctx.print(format_job(job, "Done"))
+            if isinstance(proc, Task):
+                proc.reported = True
+    return 0
+
+
+def kill(ctx: ToolContext, argv: list[str]) -> int:
+    """``kill %N [%M ...]``: stop background jobs (see ``jobs``)."""
+    if not argv:
+        raise ROSConsoleError("kill: usage: kill %N (the job numbers 'jobs' lists)")
+    for arg in argv:
+        if not arg.startswith("%") or not arg[1:].isdigit():
+            raise ROSConsoleError(f"kill: {arg}: give a job as %N (see 'jobs'); nodes are "
+                                  "stopped with 'rosnode kill /name'")
+        number = int(arg[1:])
+        job = next((j for j in ctx.jobs if j.id == number), None)
+        if job is None or not job_alive(job):
+            raise ROSConsoleError(f"kill: {arg}: no such job")
+        job_stop(job)
+        if isinstance(job.process, Task):
+            job.process.reported = True
+        ctx.print(format_job(job, "Terminated"))
+    return 0
+
+
+TOOLS = {"jobs": jobs, "kill": kill, "roslaunch": roslaunch, "rosrun": rosrun, "sleep": sleep,
+         "time": time}
