@@ -1,0 +1,495 @@
+"""Reading and writing ROS bag v2.0 files (the layout of rosbag's ``bag.py``).
+
+A file is the line ``#ROSBAG V2.0``, a file-header record padded with
+spaces to 4096 header+data bytes, then *chunks* and, at ``index_pos``, the
+index: one connection record per connection and one chunk-info record per
+chunk.  A chunk record holds (possibly bz2/lz4-compressed) connection and
+message-data records and is followed by one index-data record per
+connection it contains.
+
+:func:`encode` writes records in the order and with the field order of
+rosbag's Python writer, chunk boundaries at the same ``chunk_threshold``;
+for uncompressed and bz2 bags the bytes are the ones rosbag writes for the
+same sequence of writes.  :func:`decode` reads a whole file, checking every
+length, op code, index entry and count against what is really there: a
+truncated, corrupt or unindexed file raises a typed error naming the file,
+the offset and what is wrong.  With ``allow_unindexed`` it instead recovers
+every complete chunk, as ``rosbag reindex`` does.
+
+Messages are ``(time_ns, conn_id, data)`` tuples (an *entry*); a decoded
+bag is its connections, its entries in file order, and per connection the
+entries in index order.
+"""
+
+from __future__ import annotations
+
+import bisect
+import bz2
+import struct
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from operator import itemgetter
+from typing import IO, Any
+
+from ddes.errors import (
+    ROSBagEncryptNotSupportedException,
+    ROSBagException,
+    ROSBagFormatException,
+    ROSBagUnindexedException,
+)
+from ddes.rosbag.records import (
+    FILE_HEADER_LENGTH,
+    MAGIC,
+    OP_CHUNK,
+    OP_CHUNK_INFO,
+    OP_CONNECTION,
+    OP_FILE_HEADER,
+    OP_INDEX_DATA,
+    OP_MSG_DATA,
+    OP_NAMES,
+    ConnectionInfo,
+    Cursor,
+    Record,
+    decode_header,
+    encode_header,
+    encode_record,
+    header_from_fields,
+    pack_time,
+)
+
+__all__ = ["COMPRESSIONS", "ChunkStat", "Decoded", "Entry", "FileStats", "active_placeholder",
+           "decode", "encode", "read_file"]
+
+#: ``(time_ns, connection id, serialized message)``.
+Entry = tuple[int, int, bytes]
+
+#: Chunk compressions ddes reads and writes (rosbag's ``Compression``).
+COMPRESSIONS = ("none", "bz2", "lz4")
+
+_U32 = struct.Struct("<L")
+_U64 = struct.Struct("<Q")
+_B = struct.Struct("<B")
+_IDX = struct.Struct("<LLL")
+_PAIR = struct.Struct("<LL")
+_NS = 1_000_000_000
+_DATA_START = len(MAGIC)
+_time_key = itemgetter(0)
+
+
+@dataclass
+class ChunkStat:
+    """What ``rosbag info`` needs of one chunk."""
+
+    pos: int
+    compression: str
+    compressed_size: int
+    uncompressed_size: int
+    start: int
+    end: int
+    counts: dict[int, int] = field(default_factory=dict)
+
+
+@dataclass
+class FileStats:
+    """Size and chunk layout of an encoded bag."""
+
+    size: int
+    chunks: list[ChunkStat]
+
+
+@dataclass
+class Decoded:
+    """A bag file read into memory."""
+
+    connections: dict[int, ConnectionInfo]
+    log: list[Entry]
+    indexes: dict[int, list[Entry]]
+    stats: FileStats
+    #: What recovery of an unindexed file dropped, or None.
+    recovered: str | None = None
+
+
+# -- writing ---------------------------------------------------------------------------------
+
+def _compress(kind: str, data: bytes) -> bytes:
+    if kind == "none":
+        return data
+    if kind == "bz2":
+        return bz2.compress(data, 9)
+    if kind == "lz4":
+        import lz4.frame  # type: ignore[import-untyped]
+
+        return bytes(lz4.frame.compress(data, block_size=lz4.frame.BLOCKSIZE_MAX1MB,
+                                        content_checksum=True, store_size=False))
+    raise ROSBagException(f"unsupported compression type: {kind}; use one of {', '.join(COMPRESSIONS)}")
+
+
+def _file_header(index_pos: int, conn_count: int, chunk_count: int) -> bytes:
+    fields = {"op": _B.pack(OP_FILE_HEADER), "index_pos": _U64.pack(index_pos),
+              "conn_count": _U32.pack(conn_count), "chunk_count": _U32.pack(chunk_count)}
+    header = encode_header(fields)
+    pad = b" " * max(0, FILE_HEADER_LENGTH - len(header))
+    return b"".join((_U32.pack(len(header)), header, _U32.pack(len(pad)), pad))
+
+
+def active_placeholder() -> bytes:
+    """The start of a bag being written: magic and a file header with no index yet."""
+    return MAGIC + _file_header(0, 0, 0)
+
+
+def _connection_record(conn: ConnectionInfo) -> bytes:
+    fields = {"op": _B.pack(OP_CONNECTION), "topic": conn.topic.encode("utf-8", "surrogateescape"),
+              "conn": _U32.pack(conn.id)}
+    return encode_record(fields, conn.encoded_header())
+
+
+class _ChunkWriter:
+    """Accumulates one chunk's records and its per-connection index."""
+
+    def __init__(self, t: int) -> None:
+        self.buf = bytearray()
+        self.start = self.end = t
+        self.index: dict[int, list[tuple[int, int]]] = {}
+
+    def add(self, t: int, cid: int, data: bytes) -> None:
+        offset = len(self.buf)
+        entries = self.index.get(cid)
+        if entries is None:
+            self.index[cid] = [(t, offset)]
+        elif t >= entries[-1][0]:
+            entries.append((t, offset))
+        else:
+            bisect.insort_right(entries, (t, offset), key=_time_key)
+        if t > self.end:
+            self.end = t
+        elif t < self.start:
+            self.start = t
+        self.buf += encode_record({"op": b"\x02", "conn": _U32.pack(cid), "time": pack_time(t)}, data)
+
+
+def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out: IO[bytes], *,
+           compression: str = "none", chunk_threshold: int = 768 * 1024) -> FileStats:
+    """Write a v2.0 bag of ``log`` (entries in write order) to the seekable ``out``.
+
+    Connection records go into the chunk of their first message and again
+    into the index; a chunk closes once it holds more than
+    ``chunk_threshold`` uncompressed bytes, as in rosbag.
+    """
+    if compression not in COMPRESSIONS:
+        raise ROSBagException(f"unsupported compression type: {compression}; use one of "
+                              f"{', '.join(COMPRESSIONS)}")
+    base = out.tell()
+    out.write(MAGIC)
+    out.write(_file_header(0, 0, 0))
+    pos = out.tell() - base
+    chunks: list[ChunkStat] = []
+    seen: set[int] = set()
+    chunk: _ChunkWriter | None = None
+
+    def close_chunk(ch: _ChunkWriter) -> None:
+        nonlocal pos
+        raw = bytes(ch.buf)
+        packed = _compress(compression, raw)
+        head = encode_header({"op": _B.pack(OP_CHUNK), "compression": compression.encode(),
+                              "size": _U32.pack(len(raw))})
+        parts = [_U32.pack(len(head)), head, _U32.pack(len(packed)), packed]
+        for cid, entries in ch.index.items():
+            body = b"".join(pack_time(t) + _U32.pack(off) for t, off in entries)
+            parts.append(encode_record({"op": _B.pack(OP_INDEX_DATA), "conn": _U32.pack(cid),
+                                        "ver": _U32.pack(1), "count": _U32.pack(len(entries))},
+                                       body))
+        blob = b"".join(parts)
+        out.write(blob)
+        chunks.append(ChunkStat(pos, compression, len(packed), len(raw), ch.start, ch.end,
+                                {cid: len(e) for cid, e in ch.index.items()}))
+        pos += len(blob)
+
+    for t, cid, data in log:
+        if chunk is None:
+            chunk = _ChunkWriter(t)
+        if cid not in seen:
+            seen.add(cid)
+            chunk.buf += _connection_record(connections[cid])
+        chunk.add(t, cid, data)
+        if len(chunk.buf) > chunk_threshold:
+            close_chunk(chunk)
+            chunk = None
+    if chunk is not None:
+        close_chunk(chunk)
+    index_pos = pos
+    tail = [_connection_record(conn) for cid, conn in connections.items() if cid in seen]
+    conn_count = len(tail)
+    for ch in chunks:
+        fields = {"op": _B.pack(OP_CHUNK_INFO), "ver": _U32.pack(1), "chunk_pos": _U64.pack(ch.pos),
+                  "start_time": pack_time(ch.start), "end_time": pack_time(ch.end),
+                  "count": _U32.pack(len(ch.counts))}
+        tail.append(encode_record(fields, b"".join(_PAIR.pack(c, n) for c, n in ch.counts.items())))
+    blob = b"".join(tail)
+    out.write(blob)
+    end = out.tell()
+    out.seek(base + _DATA_START)
+    out.write(_file_header(index_pos, conn_count, len(chunks)))
+    out.seek(end)
+    return FileStats(index_pos + len(blob), chunks)
+
+
+# -- reading ---------------------------------------------------------------------------------
+
+def _decompress(kind: str, data: bytes, size: int, where: str) -> bytes:
+    try:
+        if kind == "none":
+            out = data
+        elif kind == "bz2":
+            out = bz2.BZ2Decompressor().decompress(data, max_length=size + 1)
+        elif kind == "lz4":
+            import lz4.frame
+
+            out = lz4.frame.LZ4FrameDecompressor().decompress(data, max_length=size + 1)
+        else:
+            raise ROSBagException(f"{where}: unsupported compression type: {kind} (ddes reads "
+                                  f"{', '.join(COMPRESSIONS)})")
+    except ROSBagException:
+        raise
+    except (OSError, ValueError, RuntimeError, EOFError, MemoryError) as exc:
+        raise ROSBagFormatException(f"{where}: the {kind} data of the chunk is corrupt "
+                                    f"({type(exc).__name__}: {exc})") from None
+    if len(out) != size:
+        raise ROSBagFormatException(
+            f"{where}: the chunk header says {size} bytes uncompressed but its {kind} data "
+            f"holds {len(out)}{' or more' if len(out) > size else ''}")
+    return bytes(out)
+
+
+def _connection(cur: Cursor, rec: Record) -> ConnectionInfo:
+    rec.expect(OP_CONNECTION)
+    cid = rec.u32("conn")
+    topic = rec.text("topic")
+    fields = decode_header(cur.data(rec), f"{rec.where} (connection header)")
+    try:
+        return ConnectionInfo(cid, topic, header_from_fields(fields))
+    except ROSBagFormatException as exc:
+        raise ROSBagFormatException(f"{rec.where}: {exc}") from None
+
+
+@dataclass
+class _Chunk:
+    rec: Record
+    compression: str
+    size: int
+    order: list[Entry]
+    at: dict[int, Entry]
+    conns: list[ConnectionInfo]
+
+
+def _read_chunk(cur: Cursor, pos: int, name: str) -> _Chunk:
+    rec = cur.record(pos, "chunk").expect(OP_CHUNK)
+    compression = rec.text("compression")
+    size = rec.u32("size")
+    raw = _decompress(compression, cur.data(rec), size, rec.where)
+    inner = Cursor(raw, f"{name}: chunk at offset {pos}, uncompressed data")
+    order: list[Entry] = []
+    at: dict[int, Entry] = {}
+    conns: list[ConnectionInfo] = []
+    p = 0
+    while p < len(raw):
+        r = inner.record(p)
+        op = r.op()
+        if op == OP_MSG_DATA:
+            entry = (r.time("time"), r.u32("conn"), inner.data(r))
+            order.append(entry)
+            at[p] = entry
+        elif op == OP_CONNECTION:
+            conns.append(_connection(inner, r))
+        else:
+            raise ROSBagFormatException(
+                f"{r.where}: a chunk holds only CONNECTION and MSG_DATA records, found "
+                f"{OP_NAMES.get(op, 'unknown')} (op {op:#04x})")
+        p = r.end
+    return _Chunk(rec, compression, size, order, at, conns)
+
+
+def _read_index_records(cur: Cursor, chunk: _Chunk, count: int,
+                        indexes: dict[int, list[Entry]]) -> tuple[int, dict[int, int]]:
+    """Read ``count`` index records after ``chunk``; check each entry against the chunk."""
+    pos = chunk.rec.end
+    counts: dict[int, int] = {}
+    indexed = 0
+    for _ in range(count):
+        rec = cur.record(pos, "index record").expect(OP_INDEX_DATA)
+        ver = rec.u32("ver")
+        if ver != 1:
+            raise ROSBagFormatException(f"{rec.where}: expecting index version 1, got {ver}")
+        cid, n = rec.u32("conn"), rec.u32("count")
+        if rec.data_len != 12 * n:
+            raise ROSBagFormatException(
+                f"{rec.where}: count {n} needs {12 * n} bytes of entries, the record has "
+                f"{rec.data_len}")
+        target = indexes.setdefault(cid, [])
+        for k in range(n):
+            secs, nsecs, offset = _IDX.unpack_from(cur.buf, rec.data_pos + 12 * k)
+            entry = chunk.at.get(offset)
+            if entry is None or entry[1] != cid or entry[0] != secs * _NS + nsecs:
+                raise ROSBagFormatException(
+                    f"{rec.where}: entry {k} of connection {cid} points to offset {offset} of "
+                    f"the chunk at {chunk.rec.pos}, which holds no message of that connection "
+                    "and time; the index is corrupt (rosbag reindex rebuilds it)")
+            target.append(entry)
+        counts[cid] = counts.get(cid, 0) + n
+        indexed += n
+        pos = rec.end
+    if indexed != len(chunk.order):
+        raise ROSBagFormatException(
+            f"{cur.origin}: the chunk at offset {chunk.rec.pos} holds {len(chunk.order)} messages "
+            f"but its index lists {indexed}; the index is corrupt (rosbag reindex rebuilds it)")
+    return pos, counts
+
+
+def _read_magic(buf: bytes, name: str) -> None:
+    if not buf:
+        raise ROSBagFormatException(f"{name}: empty file (0 bytes), not a bag")
+    line = buf[:64].split(b"\n", 1)[0]
+    if buf.startswith(MAGIC):
+        return
+    if line.startswith(b"#ROSBAG V"):
+        raise ROSBagFormatException(
+            f"{name}: bag format {line[9:].decode('ascii', 'replace')!r} is not supported; "
+            "ddes reads version 2.0 (convert older bags with ROS's rosbag fix)")
+    if buf.startswith(b"\x89MCAP"):
+        raise ROSBagFormatException(f"{name}: this is an MCAP file, not a ROS 1 bag; open it "
+                                    "with Bag(path) on a '.mcap' name or format='mcap'")
+    raise ROSBagFormatException(f"{name}: this does not appear to be a bag file (it starts "
+                                f"with {line[:20]!r}, not {MAGIC.strip()!r})")
+
+
+def decode(buf: bytes, name: str, *, allow_unindexed: bool = False) -> Decoded:
+    """Read a whole v2.0 bag from ``buf`` (``name`` names it in error messages)."""
+    _read_magic(buf, name)
+    cur = Cursor(buf, name)
+    head = cur.record(_DATA_START, "file header").expect(OP_FILE_HEADER)
+    encryptor = head.fields.get("encryptor", b"").decode("utf-8", "replace")
+    if encryptor and encryptor != "rosbag/NoEncryptor":
+        raise ROSBagEncryptNotSupportedException(
+            f"{name}: the bag is encrypted with {encryptor}, which ddes cannot read; decrypt it "
+            "with ROS's rosbag decrypt")
+    index_pos = head.u64("index_pos")
+    conn_count, chunk_count = head.u32("conn_count"), head.u32("chunk_count")
+    first = head.end
+    if index_pos == 0 or index_pos > len(buf):
+        why = ("its index position is 0: it was not closed properly" if index_pos == 0 else
+               f"its index position {index_pos} lies beyond the end of the file ({len(buf)} "
+               "bytes): the file is truncated")
+        if allow_unindexed:
+            return _recover(cur, first, name, why)
+        raise ROSBagUnindexedException(f"{name}: bag unindexed ({why}); run rosbag reindex")
+    if index_pos < first:
+        raise ROSBagFormatException(f"{name}: the index position {index_pos} points into the "
+                                    f"file header (records start at {first}); the file is corrupt")
+    connections: dict[int, ConnectionInfo] = {}
+    pos = index_pos
+    for _ in range(conn_count):
+        rec = cur.record(pos, "index connection record")
+        conn = _connection(cur, rec)
+        connections[conn.id] = conn
+        pos = rec.end
+    infos: list[tuple[int, int, int, dict[int, int]]] = []
+    for _ in range(chunk_count):
+        rec = cur.record(pos, "chunk info record").expect(OP_CHUNK_INFO)
+        ver = rec.u32("ver")
+        if ver != 1:
+            raise ROSBagFormatException(f"{rec.where}: unknown chunk info record version: {ver}")
+        n = rec.u32("count")
+        if rec.data_len != 8 * n:
+            raise ROSBagFormatException(f"{rec.where}: count {n} needs {8 * n} bytes, the "
+                                        f"record has {rec.data_len}")
+        counts = dict(_PAIR.unpack_from(buf, rec.data_pos + 8 * k) for k in range(n))
+        infos.append((rec.u64("chunk_pos"), rec.time("start_time"), rec.time("end_time"), counts))
+        pos = rec.end
+    log: list[Entry] = []
+    indexes: dict[int, list[Entry]] = {cid: [] for cid in connections}
+    stats: list[ChunkStat] = []
+    for chunk_pos, start, end, counts in infos:
+        if not first <= chunk_pos < index_pos:
+            raise ROSBagFormatException(f"{name}: a chunk info record points to offset "
+                                        f"{chunk_pos}, outside the chunk section "
+                                        f"[{first}, {index_pos}); the index is corrupt")
+        chunk = _read_chunk(cur, chunk_pos, name)
+        _, found = _read_index_records(cur, chunk, len(counts), indexes)
+        if found != counts:
+            raise ROSBagFormatException(
+                f"{name}: the chunk info of the chunk at offset {chunk_pos} counts {counts} "
+                f"messages per connection, its index records {found}; the index is corrupt")
+        for entry in chunk.order:
+            if entry[1] not in connections:
+                raise ROSBagFormatException(
+                    f"{name}: the chunk at offset {chunk_pos} holds a message of connection "
+                    f"{entry[1]}, which the index does not define")
+        log.extend(chunk.order)
+        stats.append(ChunkStat(chunk_pos, chunk.compression, chunk.rec.data_len, chunk.size,
+                               start, end, counts))
+    return _finish(connections, log, indexes, FileStats(len(buf), stats), None)
+
+
+def _finish(connections: dict[int, ConnectionInfo], log: list[Entry],
+            indexes: dict[int, list[Entry]], stats: FileStats, note: str | None) -> Decoded:
+    # rosbag drops connections without messages
+    live = {cid: c for cid, c in connections.items() if indexes.get(cid)}
+    return Decoded(live, log, {cid: indexes[cid] for cid in live}, stats, note)
+
+
+def _recover(cur: Cursor, pos: int, name: str, why: str) -> Decoded:
+    """Rebuild the index from the chunks, as ``rosbag reindex`` does."""
+    connections: dict[int, ConnectionInfo] = {}
+    log: list[Entry] = []
+    indexes: dict[int, list[Entry]] = {}
+    stats: list[ChunkStat] = []
+    stop: str | None = None
+    while pos < cur.size:
+        try:
+            rec = cur.record(pos)
+            op = rec.op()
+            if op == OP_CHUNK:
+                chunk = _read_chunk(cur, pos, name)
+                for conn in chunk.conns:
+                    connections.setdefault(conn.id, conn)
+                for entry in chunk.order:
+                    if entry[1] not in connections:
+                        raise ROSBagFormatException(
+                            f"{name}: the chunk at offset {pos} holds a message of connection "
+                            f"{entry[1]} with no connection record before it")
+            elif op == OP_CONNECTION:
+                conn = _connection(cur, rec)
+                connections.setdefault(conn.id, conn)
+            elif op not in (OP_INDEX_DATA, OP_CHUNK_INFO):
+                raise ROSBagFormatException(f"{rec.where}: unexpected "
+                                            f"{OP_NAMES.get(op, 'unknown')} record (op {op:#04x})")
+        except ROSBagFormatException as exc:
+            stop = f"recovery stopped at offset {pos}: {exc}"
+            break
+        if op == OP_CHUNK:
+            counts: dict[int, int] = {}
+            for entry in chunk.order:
+                cid = entry[1]
+                counts[cid] = counts.get(cid, 0) + 1
+                bisect.insort_right(indexes.setdefault(cid, []), entry, key=_time_key)
+            log.extend(chunk.order)
+            times = [e[0] for e in chunk.order] or [0]
+            stats.append(ChunkStat(pos, chunk.compression, rec.data_len, chunk.size, min(times),
+                                   max(times), counts))
+        pos = rec.end
+    note = f"{name}: {why}; recovered {len(log)} messages in {len(stats)} chunks"
+    if stop is not None:
+        note += f"; {stop}"
+    return _finish(connections, log, indexes, FileStats(cur.size, stats), note)
+
+
+def read_file(path: Any) -> bytes:
+    """The bytes of the bag file at ``path``, or ROSBagException naming it."""
+    try:
+        with open(path, "rb") as f:
+            return f.read()
+    except FileNotFoundError:
+        raise ROSBagException(f"{path}: no such bag file") from None
+    except IsADirectoryError:
+        raise ROSBagException(f"{path}: is a directory, not a bag file") from None
+    except OSError as exc:
+        raise ROSBagException(f"{path}: cannot read the bag file ({exc.strerror})") from None

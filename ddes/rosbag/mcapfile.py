@@ -1,0 +1,169 @@
+"""MCAP files in the ``ros1`` profile, so recordings open in Foxglove.
+
+Layout written (with the ``mcap`` library): profile ``ros1``; one schema
+per message type and definition (encoding ``ros1msg``, name ``pkg/Type``,
+data the ``message_definition``); one channel per bag connection (message
+encoding ``ros1``); one message per bag message with ``log_time`` =
+``publish_time`` = the bag time in nanoseconds, in bag read order.
+
+Channel metadata carries the connection header, so a bag survives
+bag → MCAP → bag exactly: every header field except ``message_definition``
+(which is the schema), with ``latching`` written as the profile's
+``"true"``/``"false"`` for ``"1"``/``"0"``.  MCAP files written by other
+tools (``mcap convert``, ``mcap_ros1.writer``) have channels without a
+``type``/``md5sum``: their header is rebuilt as rosbag's Python writer
+would write it (topic, type, md5sum computed from the definition,
+message_definition) plus ``callerid``/``latching`` when present.
+"""
+
+from __future__ import annotations
+
+import heapq
+import io
+from collections.abc import Mapping
+from operator import itemgetter
+from typing import IO, Any
+
+from ddes.errors import DdesError, ROSBagException, ROSBagFormatException
+from ddes.rosbag.bagfile import Decoded, Entry, FileStats
+from ddes.rosbag.records import ConnectionInfo
+
+__all__ = ["MCAP_MAGIC", "decode_mcap", "encode_mcap"]
+
+MCAP_MAGIC = b"\x89MCAP0\r\n"
+_time_key = itemgetter(0)
+_TIME_LIMIT = 2**32 * 1_000_000_000
+_LATCH_OUT: dict[str, str] = {"1": "true", "0": "false"}
+_LATCH_IN: dict[str, str] = {"true": "1", "false": "0"}
+
+
+def _compression(kind: str) -> Any:
+    from mcap.writer import CompressionType
+
+    table = {"none": CompressionType.NONE, "lz4": CompressionType.LZ4,
+             "zstd": CompressionType.ZSTD}
+    if kind not in table:
+        raise ROSBagException(f"unsupported MCAP compression {kind!r}: use 'none', 'lz4' or 'zstd'")
+    return table[kind]
+
+
+def encode_mcap(connections: Mapping[int, ConnectionInfo], indexes: Mapping[int, list[Entry]],
+                out: IO[bytes], *, compression: str = "lz4", chunk_size: int = 1024 * 1024) -> None:
+    """Write the bag (its connections and per-connection indexes) as MCAP to ``out``."""
+    from mcap.exceptions import McapError
+    from mcap.writer import Writer
+
+    import ddes
+
+    try:
+        writer = Writer(out, chunk_size=chunk_size, compression=_compression(compression))
+    except McapError as exc:
+        raise ROSBagException(f"cannot write MCAP with {compression} compression: {exc}") from None
+    writer.start(profile="ros1", library=f"ddes/{ddes.__version__}")
+    schemas: dict[tuple[str, str], int] = {}
+    channels: dict[int, int] = {}
+    for cid, conn in connections.items():
+        if not indexes.get(cid):
+            continue
+        key = (conn.datatype, conn.msg_def)
+        if key not in schemas:
+            schemas[key] = writer.register_schema(
+                name=conn.datatype, encoding="ros1msg",
+                data=conn.msg_def.encode("utf-8", "surrogateescape"))
+        metadata = {k: (_LATCH_OUT.get(v, v) if k == "latching" else v)
+                    for k, v in conn.header.items() if k != "message_definition"}
+        channels[cid] = writer.register_channel(topic=conn.topic, message_encoding="ros1",
+                                                schema_id=schemas[key], metadata=metadata)
+    sequence = dict.fromkeys(channels, 0)
+    for t, cid, data in heapq.merge(*(indexes[cid] for cid in channels), key=_time_key):
+        writer.add_message(channel_id=channels[cid], log_time=t, data=data, publish_time=t,
+                           sequence=sequence[cid])
+        sequence[cid] += 1
+    writer.finish()
+
+
+def _header(channel: Any, schema: Any, definition: str) -> dict[str, str]:
+    meta: dict[str, str] = {str(k): str(v) for k, v in channel.metadata.items()}
+    if "type" in meta and "md5sum" in meta:  # written by ddes: the header itself
+        header = {k: (_LATCH_IN.get(v, v) if k == "latching" else v) for k, v in meta.items()}
+        header["message_definition"] = definition
+        return header
+    from ddes.msg import message_class_from_definition
+
+    try:
+        md5 = message_class_from_definition(schema.name, definition)._md5sum
+    except DdesError as exc:
+        raise ROSBagFormatException(
+            f"channel {channel.id} ({channel.topic}): cannot compute the md5sum of "
+            f"{schema.name} from its schema: {exc}") from None
+    header = {"topic": channel.topic, "type": schema.name, "md5sum": md5,
+              "message_definition": definition}
+    if "callerid" in meta:
+        header["callerid"] = meta["callerid"]
+    if "latching" in meta:
+        header["latching"] = _LATCH_IN.get(meta["latching"], meta["latching"])
+    return header
+
+
+def decode_mcap(buf: bytes, name: str) -> Decoded:
+    """Read an MCAP file of the ``ros1`` profile (``name`` names it in errors)."""
+    from mcap.records import Channel, Message, Schema
+    from mcap.stream_reader import StreamReader
+
+    if not buf.startswith(MCAP_MAGIC):
+        raise ROSBagFormatException(f"{name}: not an MCAP file (it starts with {buf[:8]!r})")
+    schemas: dict[int, Any] = {}
+    chans: dict[int, Any] = {}
+    messages: list[tuple[int, int, bytes]] = []
+    try:
+        reader = StreamReader(io.BytesIO(buf), validate_crcs=True, record_size_limit=len(buf))
+        for record in reader.records:
+            if isinstance(record, Schema):
+                schemas[record.id] = record
+            elif isinstance(record, Channel):
+                chans.setdefault(record.id, record)
+            elif isinstance(record, Message):
+                messages.append((record.log_time, record.channel_id, bytes(record.data)))
+    except DdesError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - the mcap library raises many kinds on bad input
+        raise ROSBagFormatException(f"{name}: corrupt or truncated MCAP file "
+                                    f"({type(exc).__name__}: {exc})") from None
+    used = sorted({m[1] for m in messages})
+    conn_of: dict[int, int] = {}
+    connections: dict[int, ConnectionInfo] = {}
+    for chan_id in used:
+        chan = chans.get(chan_id)
+        if chan is None:
+            raise ROSBagFormatException(f"{name}: a message refers to channel {chan_id}, which "
+                                        "the file never defines")
+        if chan.message_encoding not in ("ros1", "ros"):
+            raise ROSBagFormatException(
+                f"{name}: channel {chan_id} ({chan.topic}) has message encoding "
+                f"{chan.message_encoding!r}; ddes reads only the ros1 profile")
+        schema = schemas.get(chan.schema_id)
+        if schema is None or schema.encoding != "ros1msg":
+            raise ROSBagFormatException(
+                f"{name}: channel {chan_id} ({chan.topic}) needs a ros1msg schema, found "
+                f"{'none' if schema is None else repr(schema.encoding)}")
+        definition = bytes(schema.data).decode("utf-8", "surrogateescape")
+        cid = len(connections)
+        conn_of[chan_id] = cid
+        try:
+            connections[cid] = ConnectionInfo(cid, chan.topic, _header(chan, schema, definition))
+        except ROSBagFormatException as exc:
+            raise ROSBagFormatException(f"{name}: {exc}") from None
+    log: list[Entry] = []
+    indexes: dict[int, list[Entry]] = {cid: [] for cid in connections}
+    for t, chan_id, data in messages:
+        if t >= _TIME_LIMIT:
+            raise ROSBagFormatException(
+                f"{name}: a message of channel {chan_id} has log_time {t} ns, beyond the ROS 1 "
+                "time range (u32 seconds)")
+        entry = (t, conn_of[chan_id], data)
+        log.append(entry)
+        indexes[entry[1]].append(entry)
+    for index in indexes.values():
+        index.sort(key=_time_key)  # stable: equal times keep file order
+    return Decoded(connections, log, indexes, FileStats(len(buf), []), None)
+
