@@ -215,11 +215,13 @@ class LaunchRunner:
         if print_summary:
             self.out(self.summary())
         world = self.world
-        if not core_running(world):
+        launched = not core_running(world)
+        if launched:
             self.out("auto-starting new master")
             self.out(f"process[master]: started with pid [{node_pid('master')}]")
-            self.out("ROS_MASTER_URI=http://localhost:11311")
-            self.out("")
+        self.out("ROS_MASTER_URI=http://localhost:11311")
+        self.out("")  # roslaunch sets the terminal title here: an escape code and a newline
+        if launched:
             start_core(world)
             self.out(f"setting /run_id to {world.master.params.get_param('/run_id')}")
             label = self._next_label("rosout")
@@ -275,7 +277,10 @@ class LaunchRunner:
         proc.node = node
         proc.alive = True
         proc.starts += 1
-        node.on_shutdown(lambda reason, p=proc, n=node: self._died(p, n, reason))
+        def died(reason: str, p: Process = proc, n: Node = node) -> None:
+            self._died(p, n, reason)
+
+        node.on_shutdown(died)
 
     # -- the process monitor ----------------------------------------------------------------------
     def _exit_code(self, node: Node) -> int:
