@@ -1,0 +1,429 @@
+"""``rosbag play`` as a node of a world: :class:`Player`.
+
+It follows roscpp's player (ros_comm ``tools/rosbag/src/player.cpp``) on
+the kernel clock, which is ddes's wall clock:
+
+* an anonymous node ``/play_<n>`` (always on kernel time) advertises one
+  publisher per (callerid, topic) of the bag, with the connection's type,
+  md5sum and definition and ``latch`` from its ``latching`` header; it
+  publishes the recorded bytes unchanged (no header rewriting), and it
+  advertises ``/clock``;
+* after advertising it waits ``delay`` (0.2 s), so subscribers connect;
+* with ``start`` > 0 it first re-publishes, per (callerid, topic), the last
+  latched message from before the start;
+* **bag time maps onto kernel time scaled by** ``rate``: a message ``d``
+  bag-seconds after the first of the view goes out ``d / rate`` seconds
+  after playback starts (re-based after a pause, a step or a skip);
+* ``clock=True`` publishes the bag time on ``/clock`` every ``1/hz`` kernel
+  seconds while waiting, and — where ROS's clock lags by up to one tick —
+  publishes the message's own time just before each message, so a node on
+  simulated time reads exactly the recorded time when the message arrives;
+* ``loop`` starts over at once after the last message: the clock jumps back,
+  which simulated-time nodes see as ROS defines it (``Rate`` raises
+  ``ROSTimeMovedBackwardsException`` unless ``reset=True``, timers restart);
+* ``immediate`` publishes everything at once; ``skip_empty`` jumps over gaps
+  longer than that; ``duration`` plays that many bag seconds; ``topics``
+  selects topics; ``pause`` starts paused; :meth:`pause`, :meth:`resume`,
+  :meth:`toggle_pause` and :meth:`step` are the keyboard's space and ``s``;
+  ``keep_alive`` keeps the node (and its latched publishers) after the end;
+  ``wait_for_subscribers`` waits until every publisher has a subscriber.
+
+A loop that would take no simulated time (``immediate``, a bag spanning
+zero time, or every gap skipped) raises ROSBagException instead of
+publishing without end at one instant.  Not modelled: the
+``~pause_playback`` service, ``--pause-topics``, ``--rate-control-topic``.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Callable, Iterable, Iterator
+from fractions import Fraction
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import DdesValueError, ROSBagException
+from ddes.rosbag.bag import Bag
+from ddes.rosbag.records import ConnectionInfo
+from ddes.time.rostime import Time
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.kernel.world import World
+
+__all__ = ["Player", "raw_message_class"]
+
+_NS = 1_000_000_000
+
+
+def raw_message_class(conn: ConnectionInfo) -> type:
+    """A class publishing a connection's recorded bytes unchanged (roscpp's ShapeShifter)."""
+
+    def serialize_to_bytes(self: Any) -> bytes:
+        return self._buff  # type: ignore[no-any-return]
+
+    def serialize(self: Any, buff: Any) -> None:
+        buff.write(self._buff)
+
+    name = conn.datatype.replace("/", "__") + "__Raw"
+    return type(name, (), {
+        "__slots__": ("_buff",), "_type": conn.datatype, "_md5sum": conn.md5sum,
+        "_full_text": conn.msg_def, "_has_header": False, "_slot_types": [],
+        "_serialize_to_bytes": serialize_to_bytes, "serialize": serialize,
+        "__doc__": f"Recorded bytes of a {conn.datatype} message.",
+    })
+
+
+def _seconds_ns(value: Any, what: str, minimum: float | None = None, strict: bool = False) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DdesValueError(f"{what} must be a finite number of seconds, got {value!r}")
+    if minimum is not None and (value <= minimum if strict else value < minimum):
+        raise DdesValueError(f"{what} must be {'>' if strict else '>='} {minimum}, got {value!r}")
+    return int(round(float(value) * 1e9))
+
+
+class Player:
+    """``rosbag play`` on a world; :attr:`done` fires when playback ends.
+
+    ``bags`` is a :class:`~ddes.rosbag.Bag`, a path, or a list of them (their
+    messages are merged by time).  Options mirror the command line (see the
+    module docstring); ``out`` receives the lines ``rosbag play`` prints.
+    """
+
+    def __init__(self, world: World, bags: Any, *, prefix: str = "", quiet: bool = False,
+                 immediate: bool = False, pause: bool = False, queue_size: int = 100,
+                 clock: bool = False, hz: float = 100.0, delay: float = 0.2, rate: float = 1.0,
+                 start: float = 0.0, duration: float | None = None,
+                 skip_empty: float | None = None, loop: bool = False, keep_alive: bool = False,
+                 topics: Iterable[str] = (), wait_for_subscribers: bool = False,
+                 name: str = "play", out: Callable[[str], Any] | None = None) -> None:
+        items = bags if isinstance(bags, (list, tuple)) else [bags]
+        if not items:
+            raise DdesValueError("You must specify at least one bag file to play from")
+        self.bags = [b if isinstance(b, Bag) else Bag(b) for b in items]
+        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not math.isfinite(rate) \
+                or rate <= 0:
+            raise DdesValueError(f"rate must be a finite factor > 0, got {rate!r}")
+        if isinstance(hz, bool) or not isinstance(hz, (int, float)) or not math.isfinite(hz) \
+                or hz <= 0:
+            raise DdesValueError(f"hz must be a finite frequency > 0, got {hz!r}")
+        self._tick_ns = max(1, int(round(1e9 / hz)))
+        self._delay_ns = _seconds_ns(delay, "delay", 0)
+        start_ns = _seconds_ns(start, "start")
+        dur_ns = None if duration is None else _seconds_ns(duration, "Invalid duration", 0,
+                                                           strict=True)
+        self._skip_ns = None if skip_empty is None else _seconds_ns(skip_empty, "skip_empty", 0,
+                                                                    strict=True)
+        self.world = world
+        self.prefix = prefix
+        self.immediate, self.loop, self.keep_alive = immediate, loop, keep_alive
+        self.publish_clock = clock
+        self.wait_for_subscribers = wait_for_subscribers
+        self.queue_size = queue_size
+        self._out = out if out is not None and not quiet else (lambda _line: None)
+        self._rate = Fraction(rate)
+        self.topics = list(topics)
+        firsts = [b._span()[0] for b in self.bags if b.get_message_count()]
+        if not firsts:
+            raise ROSBagException("No messages to play on specified topics.  Exiting.")
+        self._full_begin = min(firsts)
+        self._initial = self._full_begin + start_ns
+        self._finish = None if dur_ns is None else self._initial + dur_ns
+        self._views = [b._select(self.topics or None) for b in self.bags]
+        used: dict[tuple[int, int], None] = {}
+        first_t = last_t = -1
+        for t, i, cid, _data in self._view():
+            if first_t < 0:
+                first_t = t
+            last_t = t
+            used.setdefault((i, cid))
+        if not used:
+            raise ROSBagException("No messages to play on specified topics.  Exiting.")
+        if loop and (immediate or last_t == first_t):
+            raise ROSBagException(
+                "--loop with " + ("--immediate" if immediate else "a view spanning no time") +
+                " would publish without end at one simulated instant; drop --loop or play a "
+                "longer span")
+        self.node = world.create_node(name, anonymous=True, use_sim_time=False)
+        from ddes.msg import get_message_class
+
+        self._Clock = get_message_class("rosgraph_msgs/Clock")
+        self._clock_pub = self.node.advertise("clock", self._Clock, queue_size=1)
+        self._raw: dict[tuple[str, str, str], type] = {}
+        self._pubs: dict[str, Any] = {}
+        for i, cid in used:
+            self._advertise(self.bags[i]._connections[cid])
+        self._paused = bool(pause)
+        self._step = False
+        self._stopped = False
+        self._wake: simpy.Event = world.event()
+        self._k_base = self._b_base = self._current = 0
+        self._last_clock_k = -1
+        self._last_clock_value = -1
+        #: Messages published so far (not counting /clock).
+        self.published = 0
+        self._last_send_k = 0
+        #: Completed passes over the bag.
+        self.loops = 0
+        #: Fires when playback has ended (or failed).
+        self.done: simpy.Event = world.event()
+        self.process = self.node.process(self._run())
+
+    # -- the view ---------------------------------------------------------------------------
+    def _view(self, start: int | None = None, end: int | None = None,
+              views: list[list[ConnectionInfo]] | None = None) -> Iterator[tuple[int, int, int, bytes]]:
+        """(time, bag index, connection id, bytes) in time order (ties: bag, then connection)."""
+        lo = self._initial if start is None else start
+        hi = self._finish if end is None else end
+
+        def tagged(i: int, conns: list[ConnectionInfo]) -> Iterator[tuple[int, int, int, bytes]]:
+            for t, cid, data in self.bags[i]._entries(conns, lo, hi):
+                yield t, i, cid, data
+
+        parts = [tagged(i, conns) for i, conns in enumerate(views or self._views)]
+        return heapq.merge(*parts, key=lambda e: e[0])
+
+    def _key(self, i: int, cid: int) -> str:
+        conn = self.bags[i]._connections[cid]
+        return conn.callerid + conn.topic
+
+    def _advertise(self, conn: ConnectionInfo) -> None:
+        key = conn.callerid + conn.topic
+        if key in self._pubs:
+            return
+        raw_key = (conn.datatype, conn.md5sum, conn.msg_def)
+        cls = self._raw.get(raw_key)
+        if cls is None:
+            cls = self._raw[raw_key] = raw_message_class(conn)
+        self._pubs[key] = self.node.advertise(self.prefix + conn.topic, cls,
+                                              queue_size=self.queue_size, latch=conn.latching)
+
+    # -- controls -----------------------------------------------------------------------------
+    def _poke(self) -> None:
+        wake, self._wake = self._wake, self.world.event()
+        if not wake.triggered:
+            wake.succeed()
+
+    @property
+    def is_paused(self) -> bool:
+        return self._paused
+
+    def pause(self) -> None:
+        """Pause playback (the bag clock freezes; /clock keeps repeating it)."""
+        if not self._paused:
+            self._current = self._bag_now()
+            self._paused = True
+            self._poke()
+
+    def resume(self) -> None:
+        """Resume playback from the frozen bag time."""
+        if self._paused:
+            self._paused = False
+            self._rebase(self.world.now, self._current)
+            self._poke()
+
+    def toggle_pause(self) -> None:
+        """The space bar."""
+        if self._paused:
+            self.resume()
+        else:
+            self.pause()
+
+    def step(self) -> bool:
+        """While paused, publish the next message now ('s'); False when not paused."""
+        if not self._paused:
+            return False
+        self._step = True
+        self._poke()
+        return True
+
+    def set_rate(self, rate: float) -> None:
+        """Change the rate factor from now on (the keyboard's + and -)."""
+        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not rate > 0 \
+                or not math.isfinite(rate):
+            raise DdesValueError(f"rate must be a finite factor > 0, got {rate!r}")
+        if not self._paused:
+            self._current = self._bag_now()
+            self._rebase(self.world.now, self._current)
+        self._rate = Fraction(rate)
+        self._poke()
+
+    def stop(self, reason: str = "stopped") -> None:
+        """End playback now and shut the node down."""
+        if self._stopped:
+            return
+        self._stopped = True
+        self.node.shutdown(f"rosbag play: {reason}")
+        self._poke()
+        if not self.done.triggered:
+            self.done.succeed(self.published)
+
+    @property
+    def bag_time(self) -> Time:
+        """The player's current bag time (what /clock would say now)."""
+        return Time._from_ns(self._bag_now())
+
+    # -- time translation -----------------------------------------------------------------------
+    def _rebase(self, k: int, b: int) -> None:
+        self._k_base, self._b_base = k, b
+
+    def _bag_now(self) -> int:
+        if self._paused:
+            return self._current
+        r = self._rate
+        return self._b_base + (self.world.now - self._k_base) * r.numerator // r.denominator
+
+    def _kernel_at(self, b: int) -> int:
+        r = self._rate
+        return self._k_base - (-(b - self._b_base) * r.denominator // r.numerator)
+
+    def _publish_clock(self, value: int) -> None:
+        if self.publish_clock and not self._stopped:
+            self._clock_pub.publish(self._Clock(clock=Time._from_ns(value)))
+            self._last_clock_k = self._last_send_k = self.world.now
+            self._last_clock_value = value
+
+    def _emit(self, t: int, i: int, cid: int, data: bytes) -> None:
+        self._current = t
+        self._rebase(self.world.now, t)
+        if self._last_clock_value != t or self._last_clock_k != self.world.now:
+            self._publish_clock(t)
+        self._send(self._pubs[self._key(i, cid)], data)
+
+    def _send(self, pub: Any, data: bytes) -> None:
+        msg = pub.data_class.__new__(pub.data_class)
+        msg._buff = data
+        pub.publish(msg)
+        self.published += 1
+        self._last_send_k = self.world.now
+
+    def _wait(self, until_k: int | None) -> Any:
+        env = self.world.env
+        wake = self._wake
+        if until_k is None:
+            return wake
+        return env.any_of([env.timeout(max(0, until_k - env.now)), wake])
+
+    # -- the process ------------------------------------------------------------------------------
+    def _run(self) -> Any:
+        try:
+            yield from self._play()
+        except ROSBagException as exc:
+            self._stopped = True
+            self.node.shutdown(f"rosbag play failed: {exc}")
+            if not self.done.triggered:
+                self.done.fail(exc)
+            return
+        if not self._stopped:
+            yield from self._drain()
+            self._out("")
+            self._out("Done.")
+            self.stop("done")
+
+    def _drain(self) -> Any:
+        """Wait until the messages already sent have arrived, then let the node go."""
+        env = self.world.env
+        horizon = env.now
+        for pub in [*self._pubs.values(), self._clock_pub]:
+            for conn in pub.connections:
+                horizon = max(horizon, conn._last, self._last_send_k + conn._fixed)
+        yield env.timeout(horizon - env.now)
+
+    def _play(self) -> Any:
+        env = self.world.env
+        yield env.timeout(self._delay_ns)
+        self._out(f"Waiting {self._delay_ns / 1e9:g} seconds after advertising topics... done.")
+        self._out("")
+        self._out("Hit space to toggle paused, or 's' to step.")
+        if self._initial > self._full_begin:
+            self._republish_latched()
+        if self.wait_for_subscribers:
+            while not self._stopped and any(p.get_num_connections() == 0
+                                            for p in self._pubs.values()):
+                yield env.timeout(100_000_000)
+        while not self._stopped:
+            began = env.now
+            view = self._view()
+            first = True
+            for t, i, cid, data in view:
+                if self._stopped:
+                    return
+                if first:
+                    first = False
+                    self._current = t
+                    self._rebase(env.now, t)
+                yield from self._do_publish(t, i, cid, data)
+            if self._stopped:
+                return
+            self.loops += 1
+            if self.keep_alive:
+                yield from self._keep_alive()
+                return
+            if not self.loop:
+                return
+            if env.now == began:
+                raise ROSBagException(
+                    "--loop: a pass over the bag took no simulated time (every gap was skipped); "
+                    "it would publish without end at one instant")
+
+    def _republish_latched(self) -> None:
+        latched = [[c for c in conns if c.latching] for conns in
+                   (b._select(self.topics or None) for b in self.bags)]
+        last: dict[tuple[str, str], tuple[int, int, int, bytes]] = {}
+        for entry in self._view(self._full_begin, self._initial, latched):
+            conn = self.bags[entry[1]]._connections[entry[2]]
+            self._advertise(conn)
+            last[(conn.callerid, conn.topic)] = entry
+        for (callerid, topic) in sorted(last):
+            self._send(self._pubs[callerid + topic], last[(callerid, topic)][3])
+
+    def _do_publish(self, t: int, i: int, cid: int, data: bytes) -> Any:
+        if self.immediate:
+            self._emit(t, i, cid, data)
+            return
+        if self._skip_ns is not None and t - self._bag_now() > self._skip_ns and not self._paused:
+            self._emit(t, i, cid, data)
+            return
+        env = self.world.env
+        while not self._stopped:
+            if self._paused:
+                if self._step:
+                    self._step = False
+                    self._emit(t, i, cid, data)
+                    return
+                tick = self._last_clock_k + self._tick_ns if self.publish_clock else None
+                if tick is not None and tick <= env.now:
+                    self._publish_clock(self._current)
+                    continue
+                yield self._wait(tick)
+                continue
+            due = self._kernel_at(t)
+            if due <= env.now:
+                self._emit(t, i, cid, data)
+                return
+            tick = max(self._last_clock_k + self._tick_ns, env.now) if self.publish_clock else None
+            if tick is not None and tick < due:
+                if tick <= env.now:
+                    self._publish_clock(min(self._bag_now(), t))
+                    continue
+                yield self._wait(tick)
+                continue
+            yield self._wait(due)
+
+    def _keep_alive(self) -> Any:
+        env = self.world.env
+        while not self._stopped:
+            if not self.publish_clock:
+                yield self._wait(None)
+                continue
+            tick = self._last_clock_k + self._tick_ns
+            if tick <= env.now:
+                self._publish_clock(self._bag_now())
+                continue
+            yield self._wait(tick)
+
+    def __repr__(self) -> str:
+        state = "stopped" if self._stopped else ("paused" if self._paused else "playing")
+        return f"<Player {self.node.name} {state}: {self.published} published>"
+

@@ -1,0 +1,300 @@
+"""``rosbag record`` as a node of a world: :class:`Recorder`.
+
+It follows roscpp's recorder (ros_comm ``tools/rosbag/src/recorder.cpp``,
+``record.cpp``):
+
+* an anonymous node ``/record_<n>``; each topic is subscribed as
+  ``AnyMsg`` (raw bytes plus the publisher's connection header) with a queue
+  of 100;
+* **the record time is the recorder's ROS time at receipt** (simulated time
+  under ``/use_sim_time``), not the header stamp;
+* explicit topics (sorted, de-duplicated) are subscribed at once; with
+  ``all``, ``regex`` or ``node`` the master is checked at start and then every
+  second of ROS time, so topics that appear later are picked up (messages
+  sent before that check are not recorded, as in ROS);
+* ``exclude`` (a regex, full match) subtracts from ``all``/``regex``, and
+  without either implies ``all``;
+* ``limit=N`` records N messages per topic, then unsubscribes it; when every
+  topic is done the recording stops;
+* ``duration`` stops the recording once ROS time is more than ``duration``
+  past the start (the start is the first valid ROS time);
+* each distinct connection header gets its own connection, so a latched
+  publisher is recorded with ``latching: 1`` and two publishers on a topic
+  show as two connections.
+
+Messages go straight into an in-memory :class:`~ddes.rosbag.Bag`
+(:attr:`Recorder.bag`); unless ``in_memory``, the file is
+``NAME.bag.active`` while recording and is written and renamed to
+``NAME.bag`` when the recording stops.  File names follow ``-O``/``-o``:
+``output_name`` gives exactly ``NAME.bag``; ``output_prefix`` gives
+``PREFIX_YYYY-MM-DD-HH-MM-SS.bag``; neither gives the date alone.  ddes has
+no wall clock, so the date is the world's kernel time (seconds since the
+epoch, in the local time zone or ``tz``) when the recording starts: a world
+at 0 s records ``1970-01-01-00-00-00.bag`` in UTC.
+
+Not modelled: ``--split``/``--size``/``--max-splits``, ``--buffsize`` (nothing
+is queued, so nothing is dropped), ``--min-space``, ``--repeat-latched``,
+snapshots.
+"""
+
+from __future__ import annotations
+
+import datetime
+import re
+import time
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import DdesTypeError, DdesValueError, ROSBagException
+from ddes.rosbag.bag import Bag
+from ddes.rosbag.bagfile import active_placeholder
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.graph.topics import AnyMsg
+    from ddes.kernel.world import World
+
+__all__ = ["Recorder", "bag_filename", "parse_duration"]
+
+_NS = 1_000_000_000
+
+
+def parse_duration(value: Any) -> int:
+    """``--duration``: seconds, a Duration, or text ``"30"``, ``"30s"``, ``"5m"``, ``"1h"``; ns > 0."""
+    if hasattr(value, "to_nsec"):
+        ns = int(value.to_nsec())
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        ns = int(round(float(value) * 1e9))
+    elif isinstance(value, str):
+        m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*", value)
+        if m is None:
+            raise DdesValueError(f"Duration must start with a floating point number: {value!r}")
+        unit = m.group(2)
+        scale = {"": 1.0, "s": 1.0, "m": 60.0, "h": 3600.0}.get(unit)
+        if scale is None:
+            raise DdesValueError(f"Duration unit must be s, m, or h (got {unit!r} in {value!r})")
+        ns = int(round(float(m.group(1)) * scale * 1e9))
+    else:
+        raise DdesTypeError(f"duration must be seconds, a Duration or text like '5m', got {value!r}")
+    if ns <= 0:
+        raise DdesValueError(f"Duration must be positive (got {value!r})")
+    return ns
+
+
+def bag_filename(output_prefix: str | None = None, output_name: str | None = None,
+                 stamp_ns: int = 0, tz: datetime.tzinfo | None = None) -> str:
+    """The file ``rosbag record`` writes: ``-O NAME`` → ``NAME.bag``; ``-o P`` → ``P_<date>.bag``.
+
+    A trailing ``.bag`` is stripped from the name or prefix first.  The date
+    (``%Y-%m-%d-%H-%M-%S``) is ``stamp_ns`` read as seconds since the epoch
+    in ``tz`` (default: the local zone).
+    """
+    if output_prefix is not None and output_name is not None:
+        raise DdesValueError("Can't set both prefix and name.")
+    prefix, append_date = (output_name, False) if output_name is not None else (output_prefix, True)
+    prefix = prefix or ""
+    if prefix.endswith(".bag"):
+        prefix = prefix[:-4]
+    parts = [prefix] if prefix else []
+    if append_date:
+        secs = stamp_ns // _NS
+        if tz is None:
+            parts.append(time.strftime("%Y-%m-%d-%H-%M-%S", time.localtime(secs)))
+        else:
+            parts.append(datetime.datetime.fromtimestamp(secs, tz).strftime("%Y-%m-%d-%H-%M-%S"))
+    if not parts:
+        raise ROSBagException("Bag filename is empty (neither of these was specified: prefix, "
+                              "append_date, split)")
+    return "_".join(parts) + ".bag"
+
+
+class Recorder:
+    """``rosbag record`` on a world (see the module docstring for the rules).
+
+    Parameters mirror the command line: ``topics`` (positional), ``all``
+    (``-a``), ``regex`` (``-e``), ``exclude`` (``-x``), ``limit`` (``-l``),
+    ``duration`` (``--duration``), ``node`` (``--node``), ``output_name``
+    (``-O``), ``output_prefix`` (``-o``), ``compression`` (``-j``/``--lz4``),
+    ``chunksize`` in KB, ``publish`` (``-p``: latched ``begin_write`` with the
+    file name), ``quiet`` (``-q``).  ``in_memory=True`` writes no file;
+    ``name`` is the node's base name (made anonymous).
+    """
+
+    def __init__(self, world: World, topics: Iterable[str] = (), *, all: bool = False,
+                 regex: bool = False, exclude: str | None = None, limit: int = 0,
+                 duration: Any = None, node: str | None = None, output_name: str | None = None,
+                 output_prefix: str | None = None, compression: str = "none",
+                 chunksize: int = 768, publish: bool = False, quiet: bool = False,
+                 in_memory: bool = False, name: str = "record",
+                 tz: datetime.tzinfo | None = None) -> None:
+        if isinstance(topics, str):
+            topics = [topics]
+        self.topics = sorted(set(topics))
+        if isinstance(limit, bool) or not isinstance(limit, int) or limit < 0:
+            raise DdesValueError(f"limit must be an int >= 0, got {limit!r}")
+        if exclude and not (all or regex):
+            all = True  # rosbag: "Exclusion regex given ... Adding implicit 'record all'"
+        if not self.topics:
+            if limit > 0:
+                raise DdesValueError("Specifying a count is not valid with automatic topic "
+                                     "subscription.")
+            if not all and not node:
+                raise DdesValueError("No topics specified: give topics, all=True or node=...")
+        try:
+            self._exclude = re.compile(exclude) if exclude else None
+            self._patterns = [re.compile(t) for t in self.topics] if regex else []
+        except re.error as exc:
+            raise DdesValueError(f"Error reading options: bad regular expression: {exc}") from None
+        self.world = world
+        self.all, self.regex, self.limit, self.node_filter = all, regex, limit, node
+        self._duration_ns = None if duration is None else parse_duration(duration)
+        self.node = world.create_node(name, anonymous=True, log_level="warn" if quiet else "info")
+        #: The recording, in memory.
+        self.bag = Bag(None, "w", compression=compression, chunk_threshold=1024 * chunksize,
+                       clock=self.node)
+        #: The file written when the recording stops (None with ``in_memory``).
+        self.path: str | None = None if in_memory else bag_filename(
+            output_prefix, output_name, world.now, tz)
+        self._recording: set[str] = set()
+        self._subs: dict[str, Any] = {}
+        self._counts: dict[str, int] = {}
+        self._active = 0
+        self._start_ns: int | None = None
+        self._stopped = False
+        #: Why the recording stopped ("limit", "duration", "stopped", ...), or None.
+        self.stop_reason: str | None = None
+        #: Fires (with the bag) when the recording has stopped and the file is written.
+        self.done: simpy.Event = world.event()
+        self._begin_pub = None
+        if publish:
+            from ddes.msg import get_message_class
+
+            self._begin_pub = self.node.advertise("begin_write",
+                                                  get_message_class("std_msgs/String"),
+                                                  queue_size=1, latch=True)
+        if self.path is not None:
+            try:
+                with open(self.path + ".active", "wb") as f:
+                    f.write(active_placeholder())
+            except OSError as exc:
+                self.node.shutdown("cannot open the bag file")
+                raise ROSBagException(f"Error writing: {self.path}.active: {exc.strerror}") from None
+        if not regex:
+            for topic in self.topics:
+                self._subscribe(self.node.resolve_name(topic))
+        #: The recorder's main process; interrupting it stops the recording.
+        self.process = self.node.process(self._run())
+
+    # -- lifecycle -------------------------------------------------------------------------
+    def _run(self) -> Any:
+        import simpy
+
+        node = self.node
+        try:
+            yield node.clock.wait_valid()
+            self._start_ns = node.clock.now_ns()
+            target = self.path if self.path is not None else "memory"
+            node.loginfo("Recording to '%s'.", target)
+            if self._begin_pub is not None:
+                self._begin_pub.publish(data=target)
+            if self.all or self.regex or self.node_filter:
+                self._check_master()
+                node.create_timer(1.0, lambda _ev: self._check_master())
+            if self._duration_ns is not None:
+                deadline = node.clock.wait_until(self._start_ns + self._duration_ns + 1)
+                yield self.done | deadline
+                if not self._stopped:
+                    self.stop("duration")
+            else:
+                yield self.done
+        except simpy.Interrupt:
+            self.stop("interrupted")
+
+    def stop(self, reason: str = "stopped") -> None:
+        """Stop recording: unsubscribe, shut the node down, write the file."""
+        if self._stopped:
+            return
+        self._stopped = True
+        self.stop_reason = reason
+        if self.path is not None:
+            self.node.loginfo("Closing '%s'.", self.path)
+        self.node.shutdown(f"rosbag record: {reason}")
+        if self.path is not None:
+            self.bag.save(self.path)
+        if not self.done.triggered:
+            self.done.succeed(self.bag)
+
+    @property
+    def is_recording(self) -> bool:
+        return not self._stopped
+
+    @property
+    def start_time(self) -> float | None:
+        """ROS time (float seconds) the recording started, or None before a valid time."""
+        return None if self._start_ns is None else self._start_ns / 1e9
+
+    @property
+    def recording(self) -> list[str]:
+        """Topics subscribed so far (including ones whose limit was reached), sorted."""
+        return sorted(self._recording)
+
+    # -- subscriptions -------------------------------------------------------------------------
+    def _subscribe(self, topic: str) -> None:
+        from ddes.graph.topics import AnyMsg
+
+        self.node.loginfo("Subscribing to %s", topic)
+        self._subs[topic] = self.node.subscribe(topic, AnyMsg, self._on_message,
+                                                callback_args=topic, queue_size=100)
+        self._counts[topic] = self.limit
+        self._recording.add(topic)
+        self._active += 1
+
+    def _should_subscribe(self, topic: str, from_node: bool = False) -> bool:
+        if topic in self._recording:
+            return False
+        if self._exclude is not None and self._exclude.fullmatch(topic):
+            return False
+        if self.all or from_node:
+            return True
+        if self.regex:
+            return any(p.fullmatch(topic) for p in self._patterns)
+        return topic in self.topics
+
+    def _check_master(self) -> None:
+        if self._stopped:
+            return
+        master = self.world.master
+        for topic, _type in master.get_published_topics():
+            if self._should_subscribe(topic):
+                self._subscribe(topic)
+        if self.node_filter:
+            who = self.node.resolve_name(self.node_filter)
+            for entry in list(master.topics.values()):
+                if who in entry.subscriber_nodes() and self._should_subscribe(entry.name, True):
+                    self._subscribe(entry.name)
+
+    def _on_message(self, msg: AnyMsg, topic: str) -> None:
+        if self._stopped:
+            return
+        t = self.node.clock.now_ns()
+        if self._start_ns is not None and self._duration_ns is not None \
+                and t - self._start_ns > self._duration_ns:
+            self.stop("duration")
+            return
+        self.bag._write_raw(topic, msg._connection_header, msg._buff, t)
+        left = self._counts.get(topic, 0)
+        if left > 0:
+            left -= 1
+            self._counts[topic] = left
+            if left == 0:
+                self._subs[topic].unregister()
+                self._active -= 1
+                if self._active == 0:
+                    self.stop("limit")
+
+    def __repr__(self) -> str:
+        state = "recording" if not self._stopped else f"stopped ({self.stop_reason})"
+        return (f"<Recorder {self.node.name} {state} -> {self.path or 'memory'}: "
+                f"{self.bag.get_message_count()} messages>")
+
