@@ -18,6 +18,7 @@ from ddes.graph.node import Node
 from ddes.kernel.trace import Trace, TraceEvent
 from ddes.kernel.world import World
 from ddes.msg import get_message_class, get_service_class
+from ddes.rosbag.bag import Bag
 from ddes.time import (
     Duration,
     Rate,
@@ -35,6 +36,7 @@ from ddes.time import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "Bag",
     "DdesError",
     "Duration",
     "Node",

@@ -17,6 +17,7 @@ __all__ = ["COMMAND_MODULES", "build_parser", "main"]
 #: ``set_defaults``; a new tool is one more line here.
 COMMAND_MODULES: tuple[str, ...] = (
     "ddes.cli.rosmsg",
+    "ddes.cli.rosbag",
     "ddes.cli.console",
     "ddes.cli.run",
 )

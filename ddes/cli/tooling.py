@@ -44,6 +44,7 @@ __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", 
 
 #: Modules defining world-bound tools (``TOOLS = {"name": fn}``); one line per module.
 TOOL_MODULES: tuple[str, ...] = (
+    "ddes.cli.rosbag",
     "ddes.cli.rosnode",
     "ddes.cli.rosparam",
     "ddes.cli.rosrun",

@@ -25,6 +25,9 @@ from ddes.rosbag.bag import (
     TopicTuple,
     TypesAndTopicsTuple,
 )
+from ddes.rosbag.ops import filter_bag
+from ddes.rosbag.player import Player
+from ddes.rosbag.recorder import Recorder, bag_filename
 from ddes.rosbag.records import ConnectionInfo
 
 __all__ = [
@@ -34,6 +37,10 @@ __all__ = [
     "Compression",
     "CompressionTuple",
     "ConnectionInfo",
+    "Player",
+    "Recorder",
     "TopicTuple",
     "TypesAndTopicsTuple",
+    "bag_filename",
+    "filter_bag",
 ]

@@ -561,6 +561,16 @@ class Bag:
         self._classes[conn.id] = cls
         return cls
 
+    def _deserialize(self, conn: ConnectionInfo, t: int, data: bytes) -> Any:
+        cls = self.message_class(conn)
+        try:
+            return cls.__new__(cls)._deserialize_from(data)
+        except DdesError as exc:
+            raise ROSBagFormatException(
+                f"{self._filename or 'bag'}: message at {to_sec(t):.9f} on {conn.topic} "
+                f"(connection {conn.id}, {conn.datatype}) cannot be deserialized: {exc}"
+            ) from None
+
     def _select(self, topics: Any = None, connection_filter: Callable[..., Any] | None = None,
                 ) -> list[ConnectionInfo]:
         if topics and isinstance(topics, str):
@@ -613,14 +623,7 @@ class Bag:
                     pytype = None
                 msg: Any = (conn.datatype, data, conn.md5sum, None, pytype)
             else:
-                cls = self.message_class(conn)
-                try:
-                    msg = cls.__new__(cls)._deserialize_from(data)
-                except DdesError as exc:
-                    raise ROSBagFormatException(
-                        f"{self._filename or 'bag'}: message at {to_sec(t):.9f} on {conn.topic} "
-                        f"(connection {cid}, {conn.datatype}) cannot be deserialized: {exc}"
-                    ) from None
+                msg = self._deserialize(conn, t, data)
             stamp = Time._from_ns(t)
             if with_header:
                 yield BagMessageWithConnectionHeader(conn.topic, msg, stamp, conn.header)

@@ -307,8 +307,13 @@ class Player:
 
     # -- the process ------------------------------------------------------------------------------
     def _run(self) -> Any:
+        import simpy
+
         try:
             yield from self._play()
+        except simpy.Interrupt:
+            self.stop("interrupted")
+            return
         except ROSBagException as exc:
             self._stopped = True
             self.node.shutdown(f"rosbag play failed: {exc}")

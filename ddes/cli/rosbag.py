@@ -1,0 +1,437 @@
+"""``rosbag``: record, play, info, filter, compress, decompress, reindex.
+
+Two ways in, one implementation:
+
+* as a world-bound tool (``rosbag ...`` in the console, or
+  ``run_command(world, "rosbag info x.bag")``): every subcommand;
+  ``record`` starts a :class:`~ddes.rosbag.Recorder` that keeps running in
+  the background (a job) until ``--duration``/``--limit`` ends it or its
+  process is interrupted; ``play`` runs the world until playback ends, or
+  runs in the background with ``--loop``, ``--keep-alive``, ``--pause`` or
+  ``--wait-for-subscribers`` (which do not end by themselves);
+* as a one-shot command on files (``ddes rosbag info|filter|compress|
+  decompress|reindex FILE...``), which needs no world.
+
+Options, messages and exit codes follow ``rosbag_main.py``.  Deviations:
+no progress meter (it reads the wall clock); ``compress``, ``decompress``
+and ``reindex`` exit 1 when a file failed (rosbag prints the error and
+exits 0); options ddes does not model (``--split``, ``--size``,
+``--max-splits``, ``--repeat-latched``, ``--pause-topics``,
+``--rate-control-topic``) are refused with an error instead of ignored.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, NoReturn
+
+from ddes.errors import (
+    DdesError,
+    DdesKeyError,
+    ROSBagException,
+    ROSBagUnindexedException,
+)
+
+if TYPE_CHECKING:
+    from ddes.cli.tooling import ToolContext
+
+__all__ = ["TOOLS", "register", "rosbag_main", "run"]
+
+_COMMANDS = {
+    "compress": "Compress one or more bag files.",
+    "decompress": "Decompress one or more bag files.",
+    "filter": "Filter the contents of the bag.",
+    "info": "Summarize the contents of one or more bag files.",
+    "play": "Play back the contents of one or more bag files in a time-synchronized fashion.",
+    "record": "Record a bag file with the contents of specified topics.",
+    "reindex": "Reindexes one or more bag files.",
+}
+
+
+@dataclass
+class _IO:
+    out: Callable[[str], Any]
+    err: Callable[[str], Any]
+    ctx: ToolContext | None
+
+
+class _Exit(Exception):
+    def __init__(self, code: int) -> None:
+        super().__init__(code)
+        self.code = code
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that writes through the tool's sinks and never calls sys.exit."""
+
+    def __init__(self, io: _IO, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._io = io
+
+    def error(self, message: str) -> NoReturn:
+        self._io.err(self.format_usage().rstrip())
+        self._io.err(f"{self.prog}: error: {message}")
+        raise _Exit(2)
+
+    def exit(self, status: int = 0, message: str | None = None) -> NoReturn:
+        if message:
+            self._io.err(message.rstrip())
+        raise _Exit(status)
+
+    def print_help(self, file: Any = None) -> None:
+        self._io.out(self.format_help().rstrip())
+
+
+def _parser(io: _IO, cmd: str, usage: str) -> _Parser:
+    return _Parser(io, prog=f"rosbag {cmd}", usage=usage, description=_COMMANDS[cmd])
+
+
+def _reason(exc: BaseException, path: str) -> str:
+    text = str(exc)
+    return text[len(path) + 2:] if text.startswith(path + ": ") else text
+
+
+# -- info -------------------------------------------------------------------------------------
+
+def _info(io: _IO, argv: list[str]) -> int:
+    from ddes.rosbag import Bag
+
+    p = _parser(io, "info", "rosbag info [options] BAGFILE1 [BAGFILE2 BAGFILE3 ...]")
+    p.add_argument("bags", nargs="*")
+    p.add_argument("-y", "--yaml", action="store_true", help="print information in YAML format")
+    p.add_argument("-k", "--key", help="print information on the given key")
+    p.add_argument("--freq", action="store_true", help="display topic message frequency statistics")
+    a = p.parse_args(argv)
+    if not a.bags:
+        p.error("You must specify at least 1 bag file.")
+    if a.key and not a.yaml:
+        p.error("You can only specify key when printing in YAML format.")
+    for i, path in enumerate(a.bags):
+        try:
+            bag = Bag(path, "r", skip_index=not a.freq)
+            if a.yaml:
+                try:
+                    io.out(bag.yaml_info(a.key, freq=a.freq))
+                except DdesKeyError as exc:
+                    io.err(str(exc))
+            else:
+                io.out(bag.info(freq=a.freq))
+            bag.close()
+        except ROSBagUnindexedException:
+            io.err(f"ERROR bag unindexed: {path}.  Run rosbag reindex.")
+            return 1
+        except ROSBagException as exc:
+            io.err(f"ERROR reading {path}: {_reason(exc, path)}")
+            return 1
+        if i < len(a.bags) - 1:
+            io.out("---")
+    return 0
+
+
+# -- filter -----------------------------------------------------------------------------------
+
+def _filter(io: _IO, argv: list[str]) -> int:
+    from ddes.rosbag import Bag
+    from ddes.rosbag.ops import compile_expression, filter_bag
+
+    p = _parser(io, "filter", "rosbag filter [options] INBAG OUTBAG EXPRESSION")
+    p.epilog = ("EXPRESSION can be any Python-legal expression. The following variables are "
+                "available: topic (name of topic), m (message), t (time of message: t.secs, "
+                "t.nsecs)")
+    p.add_argument("args", nargs="*")
+    p.add_argument("-p", "--print", dest="verbose_pattern", metavar="PRINT-EXPRESSION",
+                   help="Python expression to print for verbose debugging")
+    a = p.parse_args(argv)
+    if len(a.args) == 0:
+        p.error("You must specify an in bag, an out bag, and an expression.")
+    if len(a.args) == 1:
+        p.error("You must specify an out bag and an expression.")
+    if len(a.args) == 2:
+        p.error("You must specify an expression.")
+    if len(a.args) > 3:
+        p.error("Too many arguments.")
+    inbag, outbag, expr = a.args
+    if not os.path.isfile(inbag):
+        io.err(f"Cannot locate input bag file [{inbag}]")
+        return 2
+    if os.path.realpath(inbag) == os.path.realpath(outbag):
+        io.err(f"Cannot use same file as input and output [{inbag}]")
+        return 3
+    try:
+        compile_expression(expr)
+        if a.verbose_pattern:
+            compile_expression(a.verbose_pattern, "print expression")
+        source = Bag(inbag)
+    except ROSBagUnindexedException:
+        io.err(f"ERROR bag unindexed: {inbag}.  Run rosbag reindex.")
+        return 1
+    except ROSBagException as exc:
+        io.err(f"ERROR: {exc}")
+        return 1
+    result = Bag(None, "w")
+    try:
+        filter_bag(source, result, expr, print_expr=a.verbose_pattern, out=io.out)
+        result.save(outbag)
+    except DdesError as exc:
+        io.err(f"ERROR: {exc}")
+        return 1
+    return 0
+
+
+# -- compress / decompress / reindex ------------------------------------------------------------
+
+def _bag_op(io: _IO, cmd: str, argv: list[str]) -> int:
+    from ddes.rosbag.ops import change_compression, reindex_file
+
+    p = _parser(io, cmd, f"rosbag {cmd} [options] BAGFILE1 [BAGFILE2 ...]")
+    p.add_argument("bags", nargs="*")
+    p.add_argument("--output-dir", metavar="DIR", help="write to directory DIR")
+    p.add_argument("-f", "--force", action="store_true",
+                   help="force overwriting of backup file if it exists")
+    p.add_argument("-q", "--quiet", action="store_true", help="suppress noncritical messages")
+    if cmd == "compress":
+        p.add_argument("-j", "--bz2", dest="compression", action="store_const", const="bz2",
+                       default="bz2", help="use BZ2 compression")
+        p.add_argument("--lz4", dest="compression", action="store_const", const="lz4",
+                       help="use lz4 compression")
+    a = p.parse_args(argv)
+    if not a.bags:
+        p.error("You must specify at least one bag file.")
+    failed = False
+    for path in a.bags:
+        try:
+            if cmd == "reindex":
+                skipped = reindex_file(path, output_dir=a.output_dir, force=a.force)
+            else:
+                kind = a.compression if cmd == "compress" else "none"
+                skipped = change_compression(path, kind, output_dir=a.output_dir, force=a.force)
+        except ROSBagUnindexedException:
+            io.err(f"ERROR bag unindexed: {path}.  Run rosbag reindex.")
+            failed = True
+            continue
+        except ROSBagException as exc:
+            io.err(f"ERROR reading {path}: {_reason(exc, path)}")
+            failed = True
+            continue
+        if skipped is not None and not a.quiet:
+            io.err(skipped)
+    return 1 if failed else 0
+
+
+# -- record / play (need a world) -----------------------------------------------------------------
+
+def _need_world(io: _IO, cmd: str) -> ToolContext | None:
+    if io.ctx is None:
+        io.err(f"ERROR: rosbag {cmd} needs a running world: use it in the ddes console, or "
+               f"ddes.cli.tooling.run_command(world, 'rosbag {cmd} ...')")
+    return io.ctx
+
+
+def _refuse(io: _IO, what: list[str]) -> int:
+    io.err(f"ERROR: ddes does not model {', '.join(what)} (see docs/bags.md)")
+    return 1
+
+
+def _record(io: _IO, argv: list[str]) -> int:
+    from ddes.rosbag import Recorder
+
+    p = _parser(io, "record", "rosbag record TOPIC1 [TOPIC2 TOPIC3 ...]")
+    p.add_argument("topics", nargs="*")
+    p.add_argument("-a", "--all", action="store_true", help="record all topics")
+    p.add_argument("-e", "--regex", action="store_true", help="match topics using regular expressions")
+    p.add_argument("-p", "--publish", action="store_true", help="publish a msg when the record begin")
+    p.add_argument("-x", "--exclude", dest="exclude_regex", default="",
+                   help="exclude topics matching the follow regular expression")
+    p.add_argument("-q", "--quiet", action="store_true", help="suppress console output")
+    p.add_argument("-o", "--output-prefix", dest="prefix", help="prepend PREFIX to beginning of bag name")
+    p.add_argument("-O", "--output-name", dest="name", help="record to bag with name NAME.bag")
+    p.add_argument("--split", action="store_true", help="(not modelled by ddes)")
+    p.add_argument("--max-splits", type=int, help="(not modelled by ddes)")
+    p.add_argument("--size", type=int, help="(not modelled by ddes)")
+    p.add_argument("--duration", help="record a bag of maximum duration DURATION in seconds, "
+                                      "unless 'm', or 'h' is appended")
+    p.add_argument("-b", "--buffsize", type=int, default=256,
+                   help="internal buffer in MB (ddes queues nothing, so nothing is dropped)")
+    p.add_argument("--chunksize", type=int, default=768, help="Record to chunks of SIZE KB")
+    p.add_argument("-l", "--limit", dest="num", type=int, default=0,
+                   help="only record NUM messages on each topic")
+    p.add_argument("--node", help="record all topics subscribed to by a specific node")
+    p.add_argument("-j", "--bz2", dest="compression", action="store_const", const="bz2",
+                   help="use BZ2 compression")
+    p.add_argument("--lz4", dest="compression", action="store_const", const="lz4",
+                   help="use LZ4 compression")
+    p.add_argument("--tcpnodelay", action="store_true", help="(no effect in ddes)")
+    p.add_argument("--udp", action="store_true", help="(no effect in ddes)")
+    p.add_argument("--repeat-latched", action="store_true", help="(not modelled by ddes)")
+    a = p.parse_args(argv)
+    if not a.topics and not a.all and not a.node:
+        p.error("You must specify a topic name or else use the '-a' option.")
+    if a.prefix is not None and a.name is not None:
+        p.error("Can't set both prefix and name.")
+    if a.split and not a.duration and not a.size:
+        p.error("Split specified without giving a maximum duration or size")
+    unsupported = [o for o, on in (("--split", a.split), ("--size", a.size),
+                                   ("--max-splits", a.max_splits),
+                                   ("--repeat-latched", a.repeat_latched)) if on]
+    if unsupported:
+        return _refuse(io, unsupported)
+    ctx = _need_world(io, "record")
+    if ctx is None:
+        return 1
+    try:
+        rec = Recorder(ctx.world, a.topics, all=a.all, regex=a.regex,
+                       exclude=a.exclude_regex or None, limit=a.num, duration=a.duration,
+                       node=a.node, output_name=a.name, output_prefix=a.prefix,
+                       compression=a.compression or "none", chunksize=a.chunksize,
+                       publish=a.publish, quiet=a.quiet)
+    except DdesError as exc:
+        io.err(f"ERROR: Error reading options: {exc}")
+        return 1
+    job = ctx.background(f"rosbag record {' '.join(argv)}", rec.process)
+    ctx.print(f"[{job.id}] {job.name}")
+    return 0
+
+
+def _play(io: _IO, argv: list[str]) -> int:
+    from ddes.rosbag import Player
+
+    p = _parser(io, "play", "rosbag play BAGFILE1 [BAGFILE2 BAGFILE3 ...]")
+    p.add_argument("bagfiles", nargs="*")
+    p.add_argument("-p", "--prefix", default="", help="prefix all output topics")
+    p.add_argument("-q", "--quiet", action="store_true", help="suppress console output")
+    p.add_argument("-i", "--immediate", action="store_true",
+                   help="play back all messages without waiting")
+    p.add_argument("--pause", action="store_true", help="start in paused mode")
+    p.add_argument("--queue", type=int, default=100, help="use an outgoing queue of size SIZE")
+    p.add_argument("--clock", action="store_true", help="publish the clock time")
+    p.add_argument("--hz", type=float, default=100.0,
+                   help="use a frequency of HZ when publishing clock time")
+    p.add_argument("-d", "--delay", type=float, default=0.2,
+                   help="sleep SEC seconds after every advertise call")
+    p.add_argument("-r", "--rate", type=float, default=1.0,
+                   help="multiply the publish rate by FACTOR")
+    p.add_argument("-s", "--start", type=float, default=0.0,
+                   help="start SEC seconds into the bag files")
+    p.add_argument("-u", "--duration", type=float, help="play only SEC seconds from the bag files")
+    p.add_argument("--skip-empty", type=float,
+                   help="skip regions in the bag with no messages for more than SEC seconds")
+    p.add_argument("-l", "--loop", action="store_true", help="loop playback")
+    p.add_argument("-k", "--keep-alive", action="store_true",
+                   help="keep alive past end of bag (useful for publishing latched topics)")
+    p.add_argument("--try-future-version", action="store_true", help="(no effect in ddes)")
+    p.add_argument("--topics", nargs="+", default=[], help="topics to play back")
+    p.add_argument("--pause-topics", nargs="+", default=[], help="(not modelled by ddes)")
+    p.add_argument("--bags", action="append", default=[], help="bags files to play back from")
+    p.add_argument("--wait-for-subscribers", action="store_true",
+                   help="wait for at least one subscriber on each topic before publishing")
+    p.add_argument("--rate-control-topic", default="", help="(not modelled by ddes)")
+    p.add_argument("--rate-control-max-delay", type=float, default=1.0, help="(not modelled)")
+    a = p.parse_args(argv)
+    files = a.bagfiles + a.bags
+    if not files:
+        p.error("You must specify at least 1 bag file to play back.")
+    unsupported = [o for o, on in (("--pause-topics", a.pause_topics),
+                                   ("--rate-control-topic", a.rate_control_topic)) if on]
+    if unsupported:
+        return _refuse(io, unsupported)
+    ctx = _need_world(io, "play")
+    if ctx is None:
+        return 1
+    from ddes.rosbag import Bag
+
+    bags = []
+    for path in files:
+        try:
+            bags.append(Bag(path))
+        except ROSBagUnindexedException:
+            io.err(f"Bag file {path} is unindexed.  Run rosbag reindex.")
+            return 1
+        except ROSBagException as exc:
+            io.err(f"ERROR reading {path}: {_reason(exc, path)}")
+            return 1
+    try:
+        player = Player(ctx.world, bags, prefix=a.prefix, quiet=a.quiet, immediate=a.immediate,
+                        pause=a.pause, queue_size=a.queue, clock=a.clock, hz=a.hz,
+                        delay=a.delay, rate=a.rate, start=a.start, duration=a.duration,
+                        skip_empty=a.skip_empty, loop=a.loop, keep_alive=a.keep_alive,
+                        topics=a.topics, wait_for_subscribers=a.wait_for_subscribers,
+                        out=io.out)
+    except DdesError as exc:
+        io.err(str(exc) if "No messages to play" in str(exc) else f"ERROR: {exc}")
+        return 1
+    if a.loop or a.keep_alive or a.pause or a.wait_for_subscribers:
+        job = ctx.background(f"rosbag play {' '.join(argv)}", player.process)
+        ctx.print(f"[{job.id}] {job.name}")
+        return 0
+    ctx.run_until(player.done)
+    return 0
+
+
+# -- dispatch ---------------------------------------------------------------------------------------
+
+def _usage() -> str:
+    lines = ["Usage: rosbag <subcommand> [options] [args]", "",
+             "A bag is a file format in ROS for storing ROS message data. The rosbag command can "
+             "record, replay and manipulate bags.", "", "Available subcommands:"]
+    lines += [f"   {name}  \t{text}" for name, text in sorted({**_COMMANDS, "help": ""}.items())]
+    lines += ["", "For additional information, see http://wiki.ros.org/rosbag", ""]
+    return "\n".join(lines)
+
+
+def run(argv: Sequence[str], out: Callable[[str], Any], err: Callable[[str], Any],
+        ctx: ToolContext | None = None) -> int:
+    """Run ``rosbag ARGV``; ``ctx`` (a ToolContext) enables ``record`` and ``play``."""
+    argv = list(argv)
+    io = _IO(out, err, ctx)
+    if not argv or argv[0] in ("help", "-h", "--help"):
+        rest = [x for x in argv[1:] if x not in ("-h", "--help")]
+        if rest and rest[0] in _COMMANDS:
+            return run([rest[0], "-h"], out, err, ctx)
+        if rest:
+            err(f"Unknown command: '{rest[0]}'")
+            return 1
+        out(_usage())
+        return 0
+    cmd, args = argv[0], argv[1:]
+    try:
+        if cmd == "info":
+            return _info(io, args)
+        if cmd == "filter":
+            return _filter(io, args)
+        if cmd in ("compress", "decompress", "reindex"):
+            return _bag_op(io, cmd, args)
+        if cmd == "record":
+            return _record(io, args)
+        if cmd == "play":
+            return _play(io, args)
+    except _Exit as exc:
+        return exc.code
+    err(f"Unknown command: '{cmd}'")
+    err(_usage())
+    return 1
+
+
+def _tool(ctx: ToolContext, argv: list[str]) -> int:
+    return run(argv, ctx.print, ctx.eprint, ctx)
+
+
+#: World-bound tools of this module.
+TOOLS = {"rosbag": _tool}
+
+
+def rosbag_main(args: argparse.Namespace) -> int:
+    """``ddes rosbag ...``: the file subcommands, printing to stdout/stderr."""
+    return run(args.argv, print, lambda line: print(line, file=sys.stderr))
+
+
+def register(subparsers: Any) -> None:
+    """Add ``ddes rosbag`` (info, filter, compress, decompress, reindex on files)."""
+    tool = subparsers.add_parser(
+        "rosbag", add_help=False, prefix_chars="+",
+        help="bag files: info, filter, compress, decompress, reindex (record/play in a world)")
+    tool.add_argument("argv", nargs=argparse.REMAINDER)
+    tool.set_defaults(func=rosbag_main)
