@@ -84,7 +84,7 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     with router.starting(level):
         node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest)
     router.levels[node.name] = level
-    task = Task(world, command_label("rosrun", args))
+    task = Task(world, command_label("rosrun", argv))
     task.own(node)
     node.on_shutdown(lambda _reason: task.finish(0))
     ctx.background(task.label, task)

@@ -451,7 +451,6 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
     duration = parse_duration(options.duration)
     if count is not None and rate is None:
         parser.error("-n COUNT needs -r RATE (without a rate one latched message is published)")
-    _require_bound("rostopic pub", background, duration, options.once or count is not None)
     world = ctx.world
     from ddes.msg import (
         default_keys,
@@ -466,6 +465,7 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
         raise ROSTopicException(f"invalid message type: {topic_type}: {exc}") from None
     if not pub_args and len(msg_class.__slots__):
         parser.error("Please specify message values")
+    _require_bound("rostopic pub", background, duration, options.once or count is not None)
     topic = script_resolve_name("rostopic", topic_name)
     latch = rate is None or options.latch
     task = Task(world, command_label("rostopic", ["pub", *argv]))
