@@ -38,6 +38,7 @@ from ddes.cli.toolkit import (
     take_background,
 )
 from ddes.errors import ROSConsoleError
+from ddes.graph.names import parse_node_args
 from ddes.graph.rosout import DEBUG, WARN
 from ddes.launch.runtime import LaunchRunner, LogRouter
 
@@ -81,8 +82,10 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     world = ctx.world
     router = log_router(ctx)
     level = WARN if quiet else DEBUG
+    # rospy turns anonymous off when __name:= is given (init_node); start_node does so with name=
+    name = parse_node_args(rest).name or None
     with router.starting(level):
-        node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest)
+        node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest, name=name)
     router.levels[node.name] = level
     task = Task(world, command_label("rosrun", argv))
     task.own(node)

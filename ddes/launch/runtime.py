@@ -208,8 +208,33 @@ class LaunchRunner:
         shown = replace(self.plan, params={**self.plan.params, **CORE_PARAMS})
         return "\n" + shown.to_text()
 
+    def validate(self) -> None:
+        """Check that every node's package and node type exist, before anything starts.
+
+        roslaunch prints "cannot launch node of type" and starts the rest;
+        ddes refuses the launch instead (naming the ``<node>``'s file and
+        line), so a typo never leaves a half-started launch behind.
+        """
+        from ddes.nodes import load_node_types
+
+        for spec in self.plan.nodes:
+            where = f"{spec.source}: " if spec.source else ""
+            try:
+                folder = self.rospack.get_path(spec.pkg)
+                types = load_node_types(folder)
+            except DdesError as exc:
+                raise ROSLaunchException(
+                    f"{where}cannot launch node of type [{spec.pkg}/{spec.type}]: {exc}") from None
+            if spec.type not in types:
+                known = ", ".join(sorted(types)) or "none"
+                raise ROSLaunchException(
+                    f"{where}cannot launch node of type [{spec.pkg}/{spec.type}]: Couldn't find "
+                    f"executable named {spec.type} below {folder} (node types of {spec.pkg}: "
+                    f"{known})")
+
     def start(self, *, print_summary: bool = True) -> None:
         """Set up the parameter server and start every node (roslaunch's ``launch()``)."""
+        self.validate()
         for warning in self.plan.warnings:
             self.out(f"WARNING: {warning}")
         if print_summary:
@@ -269,16 +294,23 @@ class LaunchRunner:
             with self.router.starting(level):
                 node = start_node(self.world, spec.pkg, spec.type, rospack=self.rospack,
                                   name=spec.name, namespace=spec.namespace, argv=argv)
-        except DdesError as exc:
-            where = f" ({spec.source})" if spec.source else ""
-            raise ROSLaunchException(
-                f"cannot launch node of type [{spec.pkg}/{spec.type}]{where}: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 - the node's own start-up code failed
+            # the script died at start-up: Python prints the error, roslaunch the exit
+            left = self.world.nodes.get(spec.full_name)
+            if left is not None:
+                left.shutdown("process died")
+            self.out(f"{type(exc).__name__}: {exc}")
+            proc.alive = True
+            self._exited(proc, 1)
+            return
         self.router.levels[node.name] = level
         proc.node = node
         proc.alive = True
         proc.starts += 1
+
         def died(reason: str, p: Process = proc, n: Node = node) -> None:
-            self._died(p, n, reason)
+            if p.node is n:
+                self._exited(p, self._exit_code(n))
 
         node.on_shutdown(died)
 
@@ -291,13 +323,13 @@ class LaunchRunner:
             break
         return 0
 
-    def _died(self, proc: Process, node: Node, reason: str) -> None:
-        if proc.node is not node or not proc.alive:
+    def _exited(self, proc: Process, code: int) -> None:
+        """A process ended (its node shut down, or its start-up failed with ``code``)."""
+        if not proc.alive:
             return
         proc.alive = False
         if self._shutting_down:
             return
-        code = self._exit_code(node)
         spec = proc.spec
         if code:
             cmd = " ".join([f"{spec.pkg}/{spec.type}", *spec.args, f"__name:={spec.name}"])
