@@ -379,10 +379,17 @@ class _Shell(cmd.Cmd):
         return stop
 
     def completenames(self, text: str, *ignored: Any) -> list[str]:
-        return self.console.complete(text, text)
+        return _spaced(self.console.complete(text, text))
 
     def completedefault(self, text: str, line: str, begidx: int, endidx: int) -> list[str]:
-        return self.console.complete(line[:endidx], text)
+        return _spaced(self.console.complete(line[:endidx], text))
+
+
+def _spaced(matches: list[str]) -> list[str]:
+    """A unique match ends the word (readline here appends nothing itself); folders do not."""
+    if len(matches) == 1 and not matches[0].endswith("/"):
+        return [matches[0] + " "]
+    return matches
 
 
 def interact(console: Console, history: str | None = None, stdin: TextIO | None = None) -> int:

@@ -92,3 +92,33 @@ def test_errors(console: Console, line: str, text: str) -> None:
     assert result.code == 1
     assert result.err.startswith("ERROR: ") and text in result.err
     assert result.err.count("\n") == 1
+
+
+def test_foreign_background_processes_are_jobs(console: Console) -> None:
+    """Later tools (rosbag record ...) leave plain SimPy processes or nodes as jobs."""
+    world = console.world
+    ticks: list[int] = []
+
+    def recorder():  # type: ignore[no-untyped-def]
+        while True:
+            yield world.env.timeout(500_000_000)
+            ticks.append(world.now)
+
+    console.ctx.background("rosbag record -a", world.env.process(recorder()))
+    node = world.create_node("watcher")
+    console.ctx.background("watcher", node)
+    assert console.run("jobs") == ("[1]  Running                 rosbag record -a &\n"
+                                   "[2]  Running                 watcher &\n")
+    console.run("sleep 1")
+    assert console.run("kill %1 %2") == ("[1]  Terminated              rosbag record -a\n"
+                                         "[2]  Terminated              watcher\n")
+    console.run("sleep 1")
+    assert ticks == [500_000_000, 1_000_000_000]
+    assert node.is_shutdown()
+
+
+def test_log_router_without_a_trace(console: Console) -> None:
+    console.world.trace.enabled = False
+    console.run("rosrun --quiet rospy_tutorials talker")
+    # without the trace the router cannot tell nodes apart: everything prints
+    assert console.run("sleep 0.1") == "[INFO] [0.100000]: hello world 0.1\n"

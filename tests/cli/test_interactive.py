@@ -1,0 +1,123 @@
+"""``ddes console`` in a real pseudo-terminal: readline, prompts, completion, the lecture-1 tour."""
+
+from __future__ import annotations
+
+import os
+import re
+import select
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pty = pytest.importorskip("pty")  # POSIX only; CI runs on Linux
+
+PROMPT = re.compile(rb"ddes \[(\d+\.\d{3})\] \$ ")
+
+
+class Terminal:
+    """``ddes console`` on a pseudo-terminal, driven line by line."""
+
+    def __init__(self, home: Path) -> None:
+        master, slave = pty.openpty()
+        env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
+        env.update({"HOME": str(home), "TERM": "dumb", "DDES_HISTORY": str(home / "hist"),
+                    "INPUTRC": "/dev/null", "COLUMNS": "200"})
+        self.proc = subprocess.Popen([sys.executable, "-m", "ddes.cli.main", "console"],
+                                     stdin=slave, stdout=slave, stderr=slave, env=env,
+                                     close_fds=True)
+        os.close(slave)
+        self.fd = master
+        self.buffer = b""
+
+    def read_until_prompt(self) -> tuple[str, str]:
+        """Everything printed up to the next prompt, and the time the prompt shows."""
+        while True:
+            m = PROMPT.search(self.buffer)
+            if m:
+                text, self.buffer = self.buffer[:m.start()], self.buffer[m.end():]
+                return text.decode().replace("\r\n", "\n"), m.group(1).decode()
+            ready, _, _ = select.select([self.fd], [], [], 60)  # a safety net, not a timing check
+            if not ready:
+                raise AssertionError(f"no prompt; output so far: {self.buffer!r}")
+            try:
+                chunk = os.read(self.fd, 4096)
+            except OSError:
+                chunk = b""
+            if not chunk:
+                raise AssertionError(f"console ended; output: {self.buffer!r}")
+            self.buffer += chunk
+
+    def command(self, line: str) -> tuple[str, str]:
+        """Type ``line`` and Enter; returns (what it printed, the next prompt's time)."""
+        os.write(self.fd, line.encode() + b"\n")
+        text, t = self.read_until_prompt()
+        echo = line + "\n"
+        assert text.startswith(echo), (text, line)  # the terminal echoes what was typed
+        return text[len(echo):], t
+
+    def close(self) -> int:
+        os.write(self.fd, b"\x04")  # Ctrl+D
+        code = self.proc.wait(timeout=60)
+        os.close(self.fd)
+        return code
+
+
+@pytest.fixture
+def term(tmp_path: Path):  # type: ignore[no-untyped-def]
+    t = Terminal(tmp_path)
+    yield t
+    if t.proc.poll() is None:
+        t.proc.kill()
+        t.proc.wait()
+
+
+def test_lecture_one_in_a_terminal(term: Terminal, tmp_path: Path) -> None:
+    intro, t = term.read_until_prompt()
+    assert "ddes console" in intro and t == "0.000"
+
+    out, t = term.command("rosrun --quiet rospy_tutorials talker")
+    assert (out, t) == ("", "0.000")  # time stands still while you type
+    out, _ = term.command("rosrun rospy_tutorials listener")
+    assert out == ""
+    out, _ = term.command("rosnode list")
+    assert out == "/listener_2\n/rosout\n/talker_1\n"
+    out, _ = term.command("rostopic list")
+    assert out == "/chatter\n/rosout\n/rosout_agg\n"
+    out, _ = term.command("rostopic info /chatter")
+    assert out.startswith("Type: std_msgs/String\n\nPublishers: \n * /talker_1 (http://")
+    out, t = term.command("rostopic echo -n 3 /chatter")
+    assert out.count('data: "hello world 0.') == 3 and out.count("---\n") == 3
+    assert "/listener_2I heard hello world 0.1" in out  # the listener logs as time passes
+    assert t == "0.300"
+    out, t = term.command("rostopic hz --duration 2 /chatter")
+    assert out.count("average rate: 10.000") == 2
+    assert "\tmin: 0.100s max: 0.100s std dev: 0.00000s window: " in out
+    assert t == "2.300"
+    out, _ = term.command("roslaunch --duration 1 rospy_tutorials param_talker.launch")
+    assert "/foo/utterance is Hello World" in out and "gains are 1.0, 2.0, 3.0" in out
+    assert "[ INFO] [3.300000000]: I heard: [Hello World]" in out
+    assert out.endswith("done\n")
+    out, _ = term.command("rostopic nope")
+    assert out == ("ERROR: unknown command 'rostopic nope'; rostopic commands: bw, delay, echo, "
+                   "find, hz, info, list, pub, type\n")
+    out, t = term.command("time")
+    assert out == "simulated time: 3.300000000 s\n" and t == "3.300"
+    assert term.close() == 0
+    assert "rostopic hz --duration 2 /chatter" in (tmp_path / "hist").read_text()
+
+
+def test_tab_completes_a_topic_name(term: Terminal) -> None:
+    term.read_until_prompt()
+    term.command("rosrun --quiet rospy_tutorials talker")
+    os.write(term.fd, b"rostopic echo -n 1 /cha\t")
+    os.write(term.fd, b"\n")
+    text, _ = term.read_until_prompt()
+    assert "rostopic echo -n 1 /chatter" in text
+    assert 'data: "hello world 0.1"\n---\n' in text
+    os.write(term.fd, b"rosn\t")
+    os.write(term.fd, b"list\n")
+    text, _ = term.read_until_prompt()
+    assert "rosnode list" in text and "/talker_1\n" in text
+    assert term.close() == 0
