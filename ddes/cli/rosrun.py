@@ -186,14 +186,25 @@ def jobs(ctx: ToolContext, argv: list[str]) -> int:
     if argv:
         raise ROSConsoleError("jobs takes no arguments")
     for job in ctx.jobs:
-        proc: Any = job.process
         if job_alive(job):
             ctx.print(format_job(job, "Running") + " &")
-        elif not getattr(proc, "reported", False):
+        elif not _reported(job):
             ctx.print(format_job(job, "Done"))
-            if isinstance(proc, Task):
-                proc.reported = True
+            _mark_reported(job)
     return 0
+
+
+def _reported(job: Job) -> bool:
+    proc: Any = job.process
+    return bool(proc.reported if isinstance(proc, Task) else getattr(job, "_ddes_reported", False))
+
+
+def _mark_reported(job: Job) -> None:
+    """Remember that ``jobs`` (or ``kill``) told the user this job ended (bash forgets it then)."""
+    if isinstance(job.process, Task):
+        job.process.reported = True
+    else:
+        setattr(job, "_ddes_reported", True)  # noqa: B010 - Job has no field for it
 
 
 def kill(ctx: ToolContext, argv: list[str]) -> int:
@@ -209,8 +220,7 @@ def kill(ctx: ToolContext, argv: list[str]) -> int:
         if job is None or not job_alive(job):
             raise ROSConsoleError(f"kill: {arg}: no such job")
         job_stop(job)
-        if isinstance(job.process, Task):
-            job.process.reported = True
+        _mark_reported(job)
         ctx.print(format_job(job, "Terminated"))
     return 0
 

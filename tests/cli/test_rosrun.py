@@ -122,3 +122,15 @@ def test_log_router_without_a_trace(console: Console) -> None:
     console.run("rosrun --quiet rospy_tutorials talker")
     # without the trace the router cannot tell nodes apart: everything prints
     assert console.run("sleep 0.1") == "[INFO] [0.100000]: hello world 0.1\n"
+
+
+def test_foreign_job_done_is_reported_once(console: Console) -> None:
+    world = console.world
+
+    def short():  # type: ignore[no-untyped-def]
+        yield world.env.timeout(1)
+
+    console.ctx.background("short", world.env.process(short()))
+    console.run("sleep 0.1")
+    assert console.run("jobs") == "[1]  Done                    short\n"
+    assert console.run("jobs") == ""
