@@ -3,12 +3,14 @@
 Two ways in, one implementation:
 
 * as a world-bound tool (``rosbag ...`` in the console, or
-  ``run_command(world, "rosbag info x.bag")``): every subcommand;
-  ``record`` starts a :class:`~ddes.rosbag.Recorder` that keeps running in
-  the background (a job) until ``--duration``/``--limit`` ends it or its
-  process is interrupted; ``play`` runs the world until playback ends, or
-  runs in the background with ``--loop``, ``--keep-alive``, ``--pause`` or
-  ``--wait-for-subscribers`` (which do not end by themselves);
+  ``run_command(world, "rosbag info x.bag")``): every subcommand.
+  ``record`` and ``play`` follow the console's rule for commands ROS runs
+  until Ctrl+C: in the foreground they run the world until they end by
+  themselves (``record --duration``/``--limit``; ``play`` at the end of the
+  bag); with a trailing ``&`` they keep running in the background (``jobs``
+  lists them, ``kill %N`` stops them; a stopped recording is written).
+  ``record`` without ``--duration``/``--limit``, and ``play --loop``,
+  ``--keep-alive``, ``--pause`` or ``--wait-for-subscribers``, need the ``&``;
 * as a one-shot command on files (``ddes rosbag info|filter|compress|
   decompress|reindex FILE...``), which needs no world.
 
@@ -34,6 +36,7 @@ from ddes.errors import (
     DdesKeyError,
     ROSBagException,
     ROSBagUnindexedException,
+    ROSConsoleError,
 )
 
 if TYPE_CHECKING:
@@ -237,8 +240,10 @@ def _refuse(io: _IO, what: list[str]) -> int:
 
 
 def _record(io: _IO, argv: list[str]) -> int:
+    from ddes.cli.toolkit import run_task, take_background
     from ddes.rosbag import Recorder
 
+    argv, background = take_background(argv)
     p = _parser(io, "record", "rosbag record TOPIC1 [TOPIC2 TOPIC3 ...]")
     p.add_argument("topics", nargs="*")
     p.add_argument("-a", "--all", action="store_true", help="record all topics")
@@ -282,6 +287,11 @@ def _record(io: _IO, argv: list[str]) -> int:
     ctx = _need_world(io, "record")
     if ctx is None:
         return 1
+    ends = "the end of --duration" if a.duration else ("--limit messages" if a.num else None)
+    if ends is None and not background:
+        raise ROSConsoleError(
+            "'rosbag record' runs until Ctrl+C in ROS; in ddes give --duration or --limit, or "
+            "end the line with & to keep it recording in the background ('kill %N' stops it)")
     try:
         rec = Recorder(ctx.world, a.topics, all=a.all, regex=a.regex,
                        exclude=a.exclude_regex or None, limit=a.num, duration=a.duration,
@@ -291,14 +301,33 @@ def _record(io: _IO, argv: list[str]) -> int:
     except DdesError as exc:
         io.err(f"ERROR: Error reading options: {exc}")
         return 1
-    job = ctx.background(f"rosbag record {' '.join(argv)}", rec.process)
-    ctx.print(f"[{job.id}] {job.name}")
-    return 0
+    task = _task(ctx, "record", argv, rec.done, rec.stop, io)
+    return run_task(ctx, task, background=background, duration=None, waiting_for=ends)
+
+
+def _task(ctx: ToolContext, cmd: str, argv: list[str], done: Any, stop: Callable[[], Any],
+          io: _IO) -> Any:
+    """A console Task following a recorder or player: stopping it stops them."""
+    from ddes.cli.toolkit import Task, command_label
+
+    task = Task(ctx.world, command_label("rosbag", [cmd, *argv]))
+    task.on_stop(stop)
+
+    def ended(ev: Any) -> None:
+        if not ev.ok:
+            ev.defused = True
+            io.err(f"ERROR: {ev.value}")
+        task.finish(0 if ev.ok else 1)
+
+    done.callbacks.append(ended)
+    return task
 
 
 def _play(io: _IO, argv: list[str]) -> int:
+    from ddes.cli.toolkit import run_task, take_background
     from ddes.rosbag import Player
 
+    argv, background = take_background(argv)
     p = _parser(io, "play", "rosbag play BAGFILE1 [BAGFILE2 BAGFILE3 ...]")
     p.add_argument("bagfiles", nargs="*")
     p.add_argument("-p", "--prefix", default="", help="prefix all output topics")
@@ -341,6 +370,13 @@ def _play(io: _IO, argv: list[str]) -> int:
     ctx = _need_world(io, "play")
     if ctx is None:
         return 1
+    endless = [o for o, on in (("--loop", a.loop), ("--keep-alive", a.keep_alive),
+                               ("--pause", a.pause),
+                               ("--wait-for-subscribers", a.wait_for_subscribers)) if on]
+    if endless and not background:
+        raise ROSConsoleError(
+            f"'rosbag play {endless[0]}' may run until Ctrl+C; in ddes end the line with & to "
+            "keep it playing in the background ('kill %N' stops it)")
     from ddes.rosbag import Bag
 
     bags = []
@@ -363,12 +399,9 @@ def _play(io: _IO, argv: list[str]) -> int:
     except DdesError as exc:
         io.err(str(exc) if "No messages to play" in str(exc) else f"ERROR: {exc}")
         return 1
-    if a.loop or a.keep_alive or a.pause or a.wait_for_subscribers:
-        job = ctx.background(f"rosbag play {' '.join(argv)}", player.process)
-        ctx.print(f"[{job.id}] {job.name}")
-        return 0
-    ctx.run_until(player.done)
-    return 0
+    task = _task(ctx, "play", argv, player.done, player.stop, io)
+    return run_task(ctx, task, background=background, duration=None,
+                    waiting_for="the end of the bag")
 
 
 # -- dispatch ---------------------------------------------------------------------------------------
