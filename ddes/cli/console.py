@@ -288,16 +288,34 @@ def run_script(console: Console, lines: Iterable[str], write: Callable[[str], No
 
     Blank lines and ``#`` comments are skipped; each command is echoed after
     ``prompt``, then everything it prints (output and errors in order).
-    ``exit`` ends the script.  Returns 0, or the exit code of the first
-    failing command (with ``keep_going``: 1 if any failed).
+    ``exit`` ends the script.  A line with an open quote continues on the
+    next lines (echoed after ``> ``), as in a shell, so ``rosservice call
+    /add_two_ints "a: 10`` + ``b: 5"`` passes a two-line YAML argument.
+    Returns 0, or the exit code of the first failing command (with
+    ``keep_going``: 1 if any failed); an unterminated quote at the end of
+    the script is an error.
     """
     failed = 0
+    pending: list[str] = []
     for raw in lines:
         line = raw.rstrip("\n").rstrip("\r")
-        stripped = line.strip()
-        if not stripped or stripped.startswith("#"):
-            continue
-        write(prompt + stripped)
+        if pending:  # inside an open quote: the line break belongs to the argument, as in bash
+            pending.append(line)
+            if not _balanced("\n".join(pending)):
+                continue
+            stripped = "\n".join(pending)
+            pending = []
+        else:
+            stripped = line.strip()
+            if not stripped or stripped.startswith("#"):
+                continue
+            if not _balanced(stripped) and _open_quote(stripped):
+                pending = [stripped]
+                continue
+        first, *rest = stripped.split("\n")
+        write(prompt + first)
+        for more in rest:
+            write("> " + more)
         if stripped.split()[0] in ("exit", "quit"):
             break
         code = console.command(stripped, write, write)
@@ -305,7 +323,22 @@ def run_script(console: Console, lines: Iterable[str], write: Callable[[str], No
             if not keep_going:
                 return code
             failed = 1
+    if pending:
+        write(prompt + pending[0])
+        for more in pending[1:]:
+            write("> " + more)
+        write("ERROR: cannot parse the command line: No closing quotation at the end of the script")
+        return 1
     return failed
+
+
+def _open_quote(line: str) -> bool:
+    """True if ``line`` fails to parse only because a quote is still open."""
+    try:
+        shlex.split(line)
+    except ValueError as exc:
+        return "quotation" in str(exc)
+    return False
 
 
 class _Shell(cmd.Cmd):
@@ -349,6 +382,18 @@ class _Shell(cmd.Cmd):
 
     def emptyline(self) -> bool:
         return False
+
+    def precmd(self, line: str) -> str:
+        """An open quote continues on the next line (prompt ``> ``), as in a shell."""
+        while _open_quote(line):
+            try:
+                more = input("> ") if self.use_rawinput else self.stdin.readline()
+            except EOFError:
+                break
+            if not more:
+                break
+            line += "\n" + more.rstrip("\n")
+        return line
 
     def do_help(self, arg: str) -> bool:
         """Route ``help`` (and ``?``) to the console's own help."""

@@ -72,7 +72,6 @@ BAD_INPUTS = [
     ("roslaunch {needs_arg}", "needs_arg.launch:3: <param name=\"r\" value=\"$(arg robot)\">"),
     ("roslaunch {bad_find}", "no_such_pkg"),
     ("rosparam get /no_param", "Parameter [/no_param] is not set"),
-    ("rostopic echo 'unbalanced", "cannot parse the command line"),
 ]
 
 
@@ -201,3 +200,19 @@ def test_world_can_be_passed_in_and_log_lines_go_to_out() -> None:
     console.run("rosrun rospy_tutorials talker")
     world.run_for(0.15)  # the world run directly, outside any command
     assert lines == ["[INFO] [0.100000]: hello world 0.1"]
+
+
+def test_open_quotes_continue_on_the_next_line() -> None:
+    code, text = Console().transcript(['rostopic pub /p std_msgs/Header "seq: 7', 'frame_id: map" &',
+                                       "rostopic echo -n 1 /p"])
+    assert code == 0
+    assert text == ('$ rostopic pub /p std_msgs/Header "seq: 7\n> frame_id: map" &\n'
+                    "publishing and latching message. Press ctrl-C to terminate\n"
+                    "[1] rostopic pub /p std_msgs/Header 'seq: 7\nframe_id: map'\n"
+                    "$ rostopic echo -n 1 /p\n"
+                    "seq: 7\nstamp: \n  secs: 0\n  nsecs:         0\nframe_id: \"map\"\n---\n")
+    code, text = Console().transcript(["rosnode list", "rostopic echo 'open"])
+    assert code == 1 and text.endswith("ERROR: cannot parse the command line: No closing "
+                                       "quotation at the end of the script\n")
+    result = Console().execute("rostopic echo 'open")  # one line, from Python: an error
+    assert result.err == "ERROR: cannot parse the command line: No closing quotation\n"

@@ -99,11 +99,15 @@ def test_lecture_one_in_a_terminal(term: Terminal, tmp_path: Path) -> None:
     assert "/foo/utterance is Hello World" in out and "gains are 1.0, 2.0, 3.0" in out
     assert "[ INFO] [3.300000000]: I heard: [Hello World]" in out
     assert out.endswith("done\n")
+    os.write(term.fd, b'rostopic pub -1 /q std_msgs/Header "seq: 7\n')
+    os.write(term.fd, b'frame_id: map"\n')
+    out, _ = term.read_until_prompt()
+    assert "> frame_id: map" in out and "publishing and latching message for 3.0 seconds" in out
     out, _ = term.command("rostopic nope")
     assert out == ("ERROR: unknown command 'rostopic nope'; rostopic commands: bw, delay, echo, "
                    "find, hz, info, list, pub, type\n")
     out, t = term.command("time")
-    assert out == "simulated time: 3.300000000 s\n" and t == "3.300"
+    assert out == "simulated time: 6.300000000 s\n" and t == "6.300"
     assert term.close() == 0
     assert "rostopic hz --duration 2 /chatter" in (tmp_path / "hist").read_text()
 
