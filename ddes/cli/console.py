@@ -91,6 +91,10 @@ class Console:
     out, err:
         Where output goes between commands (a node logging while you run the
         world yourself); during a command it is captured or streamed.
+
+    The world's ``raise_callback_errors`` is turned off: a failing callback
+    is reported after the command (``ERROR: bad callback in node ...``) and
+    the node goes on, as in rospy.
     """
 
     def __init__(self, world: World | None = None, *, seed: int = 0,
@@ -123,6 +127,9 @@ class Console:
 
     def _command(self, line: str) -> int:
         ctx = self.ctx
+        bare = line.rstrip()
+        if bare.endswith("&") and not bare.endswith((" &", "\\&")) and _balanced(bare[:-1]):
+            line = bare[:-1] + " &"  # "cmd&" as a shell reads it
         try:
             argv = shlex.split(line, comments=True)
         except ValueError as exc:

@@ -37,7 +37,7 @@ from ddes.cli.toolkit import (
     settle,
     take_background,
 )
-from ddes.errors import ROSConsoleError
+from ddes.errors import DdesError, ROSConsoleError
 from ddes.graph.names import parse_node_args
 from ddes.graph.rosout import DEBUG, WARN
 from ddes.launch.runtime import LaunchRunner, LogRouter
@@ -84,8 +84,17 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     level = WARN if quiet else DEBUG
     # rospy turns anonymous off when __name:= is given (init_node); start_node does so with name=
     name = parse_node_args(rest).name or None
-    with router.starting(level):
-        node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest, name=name)
+    before = set(world.nodes)
+    try:
+        with router.starting(level):
+            node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest, name=name)
+    except DdesError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - the node's own start-up code failed
+        for left in [n for n in world.nodes.values() if n.name not in before]:
+            left.shutdown("process died")
+        raise ROSConsoleError(f"{pkg}/{node_type} died at start-up: {type(exc).__name__}: "
+                              f"{exc}") from None
     router.levels[node.name] = level
     task = Task(world, command_label("rosrun", argv))
     task.own(node)

@@ -92,9 +92,6 @@ def take_background(argv: Sequence[str]) -> tuple[list[str], bool]:
     if args and args[-1] == "&":
         args.pop()
         background = True
-    elif args and args[-1].endswith("&") and not args[-1].endswith("\\&") and len(args[-1]) > 1:
-        args[-1] = args[-1][:-1]
-        background = True
     if "--background" in args:
         args.remove("--background")
         background = True

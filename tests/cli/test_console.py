@@ -216,3 +216,10 @@ def test_open_quotes_continue_on_the_next_line() -> None:
                                        "quotation at the end of the script\n")
     result = Console().execute("rostopic echo 'open")  # one line, from Python: an error
     assert result.err == "ERROR: cannot parse the command line: No closing quotation\n"
+
+
+def test_ampersand_glued_to_the_last_word(chat: Console) -> None:
+    assert chat.run("rostopic echo /chatter&") == "[3] rostopic echo /chatter\n"
+    chat.run("kill %3")
+    chat.run("rostopic pub -1 /amp std_msgs/String 'a&' &")
+    assert chat.run("rostopic echo -n 1 /amp") == 'data: "a&"\n---\n'

@@ -260,3 +260,10 @@ def test_roslaunch_introspection(console: Console) -> None:
     assert console.run("roslaunch --files rospy_tutorials talker_listener.launch").endswith(
         "rospy_tutorials/launch/talker_listener.launch\n")
     assert console.run("rosnode list") == "/rosout\n"
+
+
+def test_rosrun_of_a_node_failing_at_start_up(con: Console) -> None:
+    result = con.execute("rosrun demo broken")
+    assert (result.code, result.err) == (
+        1, "ERROR: demo/broken died at start-up: RuntimeError: cannot start\n")
+    assert con.run("rosnode list") == "/rosout\n"
