@@ -26,6 +26,7 @@ renders the tables and shows the servers, the clients, the protocol machine
 from ddes.actionlib.cancel import (
     CANCELED_BY_STAMP_TEXT,
     STATUS_LIST_TIMEOUT_NS,
+    UNINITIALIZED_GOAL_ID_TEXT,
     UNINITIALIZED_HANDLE_TEXT,
     CancelOutcome,
     CancelRequest,
@@ -117,6 +118,7 @@ __all__ = [
     "SimpleUpdate",
     "StatusOutcome",
     "TERMINAL_STATUSES",
+    "UNINITIALIZED_GOAL_ID_TEXT",
     "UNINITIALIZED_HANDLE_TEXT",
     "apply_comm_cancel",
     "apply_comm_result",

@@ -30,7 +30,7 @@ the same request matches later in the list.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from enum import Enum
 
 from ddes.actionlib._nanos import duration_ns, time_ns
@@ -59,6 +59,7 @@ __all__ = [
     "STATUS_LIST_TIMEOUT_NS",
     "ServerGoals",
     "StatusOutcome",
+    "UNINITIALIZED_GOAL_ID_TEXT",
     "UNINITIALIZED_HANDLE_TEXT",
     "apply_goal_event",
     "cancel_matches",
@@ -79,6 +80,10 @@ CANCELED_BY_STAMP_TEXT = (
 
 #: rospy's log text for a ``set_*`` call on a handle without a goal (a cancel placeholder).
 UNINITIALIZED_HANDLE_TEXT = "Attempt to set status on an uninitialized ServerGoalHandle"
+
+#: rospy's log text for reading the goal id of such a handle.  Every ``set_*`` call
+#: and cancel request reads it twice for its debug line, so ROS logs it twice per call.
+UNINITIALIZED_GOAL_ID_TEXT = "Attempt to get a goal id on an uninitialized ServerGoalHandle"
 
 
 @dataclass(frozen=True)
@@ -237,6 +242,7 @@ class _Book:
         self.created = goals.created
         self.publications: list[Publication] = []
         self.removed: list[GoalTracker] = []
+        self.errors: list[str] = []  # what rospy logs with logerr, in order
 
     def publish_status(self) -> None:
         kept = []
@@ -265,10 +271,15 @@ class _Book:
         """A ``ServerGoalHandle`` call on the entry in ``box`` (publishing as ROS does)."""
         t = box[0]
         if not t.has_goal:
+            self.errors += [UNINITIALIZED_GOAL_ID_TEXT] * 2
             error = None if event is ServerEvent.CANCEL_REQUEST else UNINITIALIZED_HANDLE_TEXT
+            if error is not None:
+                self.errors.append(error)
             return ServerTransition(t.status, event, t.status, False, error)
         tr = server_transition(t.status, event)
         if not tr.legal:
+            if tr.error is not None:
+                self.errors.append(tr.error)
             return tr
         if event is ServerEvent.CANCEL_REQUEST:
             box[0] = replace(t, status=tr.after)
@@ -300,6 +311,7 @@ class GoalOutcome:
     tracker: GoalTracker
     publications: tuple[Publication, ...] = ()
     transition: ServerTransition | None = None
+    errors: tuple[str, ...] = ()
 
     @property
     def call_goal_callback(self) -> bool:
@@ -314,7 +326,9 @@ class CancelOutcome:
     ``matched`` lists the ids of every entry the request matched (in list
     order); ``cancel_requested`` those that moved to RECALLING/PREEMPTING,
     whose user cancel callback must run, in order.  ``placeholder`` is the new
-    RECALLING placeholder, if any.
+    RECALLING placeholder, if any.  ``transitions`` holds the cancel request
+    of every matched entry; ``errors`` what rospy logs (a matched placeholder
+    logs :data:`UNINITIALIZED_GOAL_ID_TEXT` twice).
     """
 
     goals: ServerGoals
@@ -323,17 +337,23 @@ class CancelOutcome:
     cancel_requested: tuple[str, ...] = ()
     placeholder: GoalTracker | None = None
     publications: tuple[Publication, ...] = ()
-    transitions: tuple[ServerTransition, ...] = field(default=())
+    transitions: tuple[ServerTransition, ...] = ()
+    errors: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
 class EventOutcome:
-    """The result of :func:`apply_goal_event`; ``tracker`` is the goal afterwards."""
+    """The result of :func:`apply_goal_event`; ``tracker`` is the goal afterwards.
+
+    ``errors`` is what rospy logs: the transition's error, and for a
+    placeholder also :data:`UNINITIALIZED_GOAL_ID_TEXT` twice before it.
+    """
 
     goals: ServerGoals
     transition: ServerTransition
     tracker: GoalTracker
     publications: tuple[Publication, ...] = ()
+    errors: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -419,11 +439,10 @@ def receive_cancel(goals: ServerGoals, request: CancelRequest, now: int | Time) 
             found = True
         if not t.has_handle:
             box[0] = replace(t, has_handle=True, destruction_time=now_ns)
-        if box[0].has_goal:
-            tr = book.apply(box, ServerEvent.CANCEL_REQUEST, "")
-            transitions.append(tr)
-            if tr.legal:
-                requested.append(box[0].goal_id)
+        tr = book.apply(box, ServerEvent.CANCEL_REQUEST, "")
+        transitions.append(tr)
+        if tr.legal:
+            requested.append(box[0].goal_id)
     placeholder = None
     if request.id != "" and not found:
         placeholder = GoalTracker(
@@ -434,7 +453,7 @@ def receive_cancel(goals: ServerGoals, request: CancelRequest, now: int | Time) 
     book.last_cancel = max(book.last_cancel, request.stamp)
     return CancelOutcome(
         book.goals(goals), request, tuple(matched), tuple(requested), placeholder,
-        tuple(book.publications), tuple(transitions),
+        tuple(book.publications), tuple(transitions), tuple(book.errors),
     )
 
 
@@ -479,7 +498,9 @@ def apply_goal_event(
     else:
         raise DdesTypeError(f"goal must be a goal id (str) or a GoalTracker, got {goal!r}")
     tr = book.apply(box, ServerEvent(event), text)
-    return EventOutcome(book.goals(goals), tr, box[0], tuple(book.publications))
+    return EventOutcome(
+        book.goals(goals), tr, box[0], tuple(book.publications), tuple(book.errors)
+    )
 
 
 def publish_status(goals: ServerGoals, now: int | Time) -> StatusOutcome:
