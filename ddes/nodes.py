@@ -99,9 +99,16 @@ def start_node(
         proc = node.process(result)
 
         def finished(ev: Any) -> None:
-            code = ev.value if ev.ok and isinstance(ev.value, int) else 0
-            world.record("node.exit", node.name, code=code)
-            node.shutdown("main loop returned")
+            if ev.ok:
+                code = ev.value if isinstance(ev.value, int) else 0
+                world.record("node.exit", node.name, code=code)
+                node.shutdown("main loop returned")
+                return
+            exc = ev.value
+            world.record("node.exit", node.name, code=1, error=f"{type(exc).__name__}: {exc}")
+            node.shutdown(f"main loop raised {type(exc).__name__}: {exc}")
+            if not world.raise_callback_errors:
+                ev.defused = True  # recorded; the world keeps running
 
         proc.callbacks.append(finished)
     return node

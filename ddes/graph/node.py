@@ -103,7 +103,7 @@ class Node:
             raise DdesTypeError(f"node name must be a non-empty string, got {name!r}")
         args = parse_node_args(list(argv))
         base = args.name or name
-        if anonymous:
+        if anonymous and not args.name:  # rospy: __name:= turns anonymous off
             from ddes.graph.names import anonymous_name
 
             base = anonymous_name(base, world.next_id("anonymous"))

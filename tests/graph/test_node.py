@@ -229,3 +229,7 @@ def test_callback_exceptions_follow_world_policy(world: ddes.World) -> None:
     world.run()
     assert [e.details["error"] for e in world.trace.filter(kind="callback.exception")] == [
         "ValueError: bad 0", "ValueError: bad 1", "ValueError: bad 2"]
+
+
+def test_name_remap_turns_anonymous_off(world: ddes.World) -> None:
+    assert world.create_node("x", anonymous=True, argv=["__name:=fixed"]).name == "/fixed"
