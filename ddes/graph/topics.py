@@ -30,14 +30,13 @@ from collections.abc import Callable
 from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
-from simpy.events import Timeout
-
 from ddes.errors import (
     DdesTypeError,
     DdesValueError,
     ROSException,
     ROSSerializationException,
 )
+from ddes.kernel.post import post
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -197,8 +196,7 @@ class Connection:
         if at < self._last:
             at = self._last  # FIFO per connection
         self._last = at
-        ev = env.timeout(at - now, (data, seq))
-        ev.callbacks.append(self._arrive)
+        post(env, at - now, (data, seq), self._arrive)
 
     def _arrive(self, ev: Any) -> None:
         if self.closed:
@@ -294,7 +292,7 @@ class Publisher:
         else:
             trace.record_fast(row)
         for delay, conns in self._fanout:
-            Timeout(env, delay, (data, seq, conns)).callbacks.append(_arrive_batch)
+            post(env, delay, (data, seq, conns), _arrive_batch)
         for conn in self._single:
             conn.send(data, seq)
 

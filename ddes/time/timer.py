@@ -21,9 +21,8 @@ from collections.abc import Callable
 from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
-from simpy.events import Timeout
-
 from ddes.errors import DdesValueError
+from ddes.kernel.post import post
 from ddes.time.rostime import Duration, Time
 from ddes.time.sleep import duration_ns
 
@@ -165,8 +164,7 @@ class Timer:
         ev: Any
         if self._kernel:
             delay = self._next - self._env.now
-            ev = Timeout(self._env, delay if delay > 0 else 0, gen)
-            ev.callbacks.append(self._fire_cb)
+            post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
         else:
             ev = self._clock.wait_until(self._next)
             ev.callbacks.append(lambda _e: self._fire_gen(gen))
@@ -223,7 +221,7 @@ class Timer:
         gen = self._gen + 1
         self._gen = gen
         delay = nxt - now
-        Timeout(self._env, delay if delay > 0 else 0, gen).callbacks.append(self._fire_cb)
+        post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
 
     def _fire_gen(self, gen: int) -> None:
         if gen != self._gen or not self._alive:

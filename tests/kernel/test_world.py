@@ -109,3 +109,16 @@ def test_trace_records_and_digests(world: ddes.World) -> None:
     world.record("custom", "/me")
     assert world.digest() != d1 and len(world.trace) == 2
     assert "custom" in world.trace.format()
+
+
+def test_post_orders_exactly_like_timeout(world: ddes.World) -> None:
+    from ddes.kernel.post import post
+
+    order: list[str] = []
+    env = world.env
+    env.timeout(5).callbacks.append(lambda e: order.append("t1"))
+    post(env, 5, "p1", lambda e: order.append(e.value))
+    env.timeout(5).callbacks.append(lambda e: order.append("t2"))
+    post(env, 0, "p0", lambda e: order.append(e.value))
+    world.run()
+    assert order == ["p0", "t1", "p1", "t2"]
