@@ -84,7 +84,8 @@ class ServiceProxy:
         self.timeout_ns = timeout_ns(timeout, "timeout")
         self.seq = 0
         self._transport: ServiceConnection | None = None
-        self._closed = False
+        #: Why every call of this persistent proxy now fails (closed, or its server went away).
+        self._broken: str | None = None
         self._pending: dict[int, PendingCall] = {}
         self._field_timeout = "timeout" in self.request_class.__slots__
         node._add_entity(self)
@@ -119,21 +120,19 @@ class ServiceProxy:
         if ns is not None:
             self._arm_timeout(call, ns)
         conn = self._transport
+        if conn is not None and conn.server_gone:
+            self._transport = conn = None
+            self._broken = (f"persistent connection to service [{name}] was closed: the server "
+                            "went away; create a new ServiceProxy")
+        if self._broken is not None:
+            call.fail("closed", ServiceException(self._broken))
+            return call
         if conn is not None:
             call.conn = conn
-            if conn.closed:
-                self._transport = None
-                call.fail("closed", ServiceException(
-                    f"persistent connection to service [{name}] was closed: the server went "
-                    "away; create a new ServiceProxy"))
-            elif not conn.ready:
+            if not conn.ready:
                 pass  # header exchange in progress: the request leaves once it is done
             else:
                 self._send_request(conn, call, world.env._now)  # type: ignore[arg-type]
-            return call
-        if self._closed:
-            call.fail("closed", ServiceException(
-                f"persistent ServiceProxy for service [{name}] was closed; create a new one"))
             return call
         entry = world.master.lookup_service(name)
         if entry is None:
@@ -266,7 +265,9 @@ class ServiceProxy:
         """
         if not self.persistent:
             return
-        self._closed = True
+        if self._broken is None:
+            self._broken = (f"persistent ServiceProxy for service [{self.resolved_name}] was "
+                            "closed; create a new one")
         conn = self._transport
         self._transport = None
         if conn is not None and not conn.closed:
@@ -287,7 +288,7 @@ class ServiceProxy:
         if self._transport is not None:
             self._transport.close()
             self._transport = None
-        self._closed = True
+        self._broken = f"the node of this ServiceProxy for [{self.resolved_name}] is shut down"
         self.node._remove_entity(self)
 
     def __repr__(self) -> str:
@@ -324,10 +325,8 @@ class ServiceClient:
     def is_valid(self) -> bool:
         """False once a persistent client's connection was lost or shut down (``isValid()``)."""
         proxy = self._proxy
-        if not proxy.persistent:
-            return not proxy._closed
         conn = proxy._transport
-        return not proxy._closed and (conn is None or not conn.closed)
+        return proxy._broken is None and (conn is None or not conn.server_gone)
 
     def exists(self) -> bool:
         """Is the service registered now (``exists()``)."""
