@@ -46,6 +46,7 @@ from ddes.errors import (
     ROSBagException,
     ROSBagFormatException,
 )
+from ddes.graph.topics import AnyMsg
 from ddes.rosbag.bagfile import (
     COMPRESSIONS,
     Decoded,
@@ -463,10 +464,11 @@ class Bag:
             raise DdesValueError(f"topic is invalid: {topic!r}")
         if msg is None:
             raise DdesValueError("msg is invalid: None")
-        ns = _time_ns(self._now() if t is None else t, "t")
-        from ddes.graph.topics import AnyMsg
-
-        if isinstance(msg, AnyMsg):
+        if type(t) is Time and t.secs < 4294967296:
+            ns = t.secs * 1_000_000_000 + t.nsecs
+        else:
+            ns = _time_ns(self._now() if t is None else t, "t")
+        if type(msg) is AnyMsg:
             data = bytes(msg._buff)
             header = dict(msg._connection_header)
             if connection_header is not None:

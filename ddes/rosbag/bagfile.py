@@ -74,6 +74,15 @@ _PAIR = struct.Struct("<LL")
 _NS = 1_000_000_000
 _DATA_START = len(MAGIC)
 _time_key = itemgetter(0)
+# A message-data record: header length 38, then op=0x02, conn=<u32>, time=<u32 u32>, data.
+_MSG_PREFIX = struct.pack("<LL", 38, 4) + b"op=\x02" + struct.pack("<L", 9) + b"conn="
+_MSG_REST = struct.Struct("<LL5sLLL")
+_OP_CONN = struct.pack("<L", 4) + b"op=\x02" + struct.pack("<L", 9) + b"conn="  # rosbag (Python)
+_CONN_OP = struct.pack("<L", 9) + b"conn="  # roscpp writes the fields sorted: conn, op, time
+_OP_AFTER = struct.pack("<L", 4) + b"op=\x02"
+_TIME_FIELD = struct.pack("<L", 13) + b"time="
+_FAST = struct.Struct("<L")
+_FAST_TAIL = struct.Struct("<LLL")
 
 
 @dataclass
@@ -164,7 +173,10 @@ class _ChunkWriter:
             self.end = t
         elif t < self.start:
             self.start = t
-        self.buf += encode_record({"op": b"\x02", "conn": _U32.pack(cid), "time": pack_time(t)}, data)
+        buf = self.buf
+        buf += _MSG_PREFIX  # header fields op, conn, time: rosbag's order
+        buf += _MSG_REST.pack(cid, 13, b"time=", t // _NS, t % _NS, len(data))
+        buf += data
 
 
 def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out: IO[bytes], *,
@@ -291,7 +303,15 @@ def _read_chunk(cur: Cursor, pos: int, name: str) -> _Chunk:
     at: dict[int, Entry] = {}
     conns: list[ConnectionInfo] = []
     p = 0
-    while p < len(raw):
+    n = len(raw)
+    while p < n:
+        entry_at = _fast_message(raw, p, n)
+        if entry_at is not None:
+            entry, end = entry_at
+            order.append(entry)
+            at[p] = entry
+            p = end
+            continue
         r = inner.record(p)
         op = r.op()
         if op == OP_MSG_DATA:
@@ -306,6 +326,26 @@ def _read_chunk(cur: Cursor, pos: int, name: str) -> _Chunk:
                 f"{OP_NAMES.get(op, 'unknown')} (op {op:#04x})")
         p = r.end
     return _Chunk(rec, compression, size, order, at, conns)
+
+
+def _fast_message(raw: bytes, p: int, n: int) -> tuple[Entry, int] | None:
+    """A standard 38-byte-header message record at ``p`` (either field order), else None."""
+    if n - p < 46 or _FAST.unpack_from(raw, p)[0] != 38:
+        return None
+    if raw.startswith(_OP_CONN, p + 4):  # op, conn, time
+        cid = _FAST.unpack_from(raw, p + 21)[0]
+        if not raw.startswith(_TIME_FIELD, p + 25):
+            return None
+    elif raw.startswith(_CONN_OP, p + 4) and raw.startswith(_OP_AFTER, p + 17) \
+            and raw.startswith(_TIME_FIELD, p + 25):  # conn, op, time
+        cid = _FAST.unpack_from(raw, p + 13)[0]
+    else:
+        return None
+    secs, nsecs, size = _FAST_TAIL.unpack_from(raw, p + 34)
+    end = p + 46 + size
+    if end > n:
+        return None  # let the checked path name the problem
+    return (secs * _NS + nsecs, cid, raw[p + 46:end]), end
 
 
 def _read_index_records(cur: Cursor, chunk: _Chunk, count: int,
@@ -426,6 +466,10 @@ def decode(buf: bytes, name: str, *, allow_unindexed: bool = False) -> Decoded:
         log.extend(chunk.order)
         stats.append(ChunkStat(chunk_pos, chunk.compression, chunk.rec.data_len, chunk.size,
                                start, end, counts))
+    for index in indexes.values():
+        # rosbag concatenates the chunk indexes; a stable sort by time keeps that order for
+        # bags written in time order and gives write order to equal stamps otherwise
+        index.sort(key=_time_key)
     return _finish(connections, log, indexes, FileStats(len(buf), stats), None)
 
 
