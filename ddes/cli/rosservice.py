@@ -248,11 +248,11 @@ def _run(ctx: ToolContext, event: simpy.Event, waiting_for: str) -> Any:
         event.callbacks.append(_defuse)  # a failure is re-raised below, not by the kernel
     while not event.processed:
         t = env.peek()
-        if t > deadline:
-            break
         if t == float("inf"):
             raise _ServiceError(f"still waiting for {waiting_for}, and the world has nothing "
                                 "left to do (ROS would wait until Ctrl+C)")
+        if t > deadline:
+            break
         env.step()
     if not event.processed:
         ctx.world.run(until=Time._from_ns(deadline))

@@ -35,9 +35,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from simpy.events import Timeout
-
 from ddes.errors import ROSInterruptException, ServiceException, ServiceTimeout
+from ddes.kernel.post import post
 from ddes.services.convert import args_kwds_to_request, check_service_class
 from ddes.services.server import check_service_name
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
@@ -49,6 +48,7 @@ if TYPE_CHECKING:
 
     from ddes.graph.node import Node
     from ddes.msg.message import Message
+    from ddes.services.network import ServiceStats
 
 __all__ = ["ServiceClient", "ServiceProxy"]
 
@@ -88,6 +88,7 @@ class ServiceProxy:
         self._broken: str | None = None
         self._pending: dict[int, PendingCall] = {}
         self._field_timeout = "timeout" in self.request_class.__slots__
+        self._stats: ServiceStats | None = None
         node._add_entity(self)
 
     # -- calling --------------------------------------------------------------------------
@@ -111,7 +112,9 @@ class ServiceProxy:
         data = serialize(request)
         world = self.world
         name = self.resolved_name
-        stats = world.service_network.stats_for(name)
+        stats = self._stats
+        if stats is None:
+            stats = self._stats = world.service_network.stats_for(name)
         stats.calls += 1
         self.seq += 1
         call = PendingCall(self, data, world.env.event(), stats)
@@ -130,7 +133,7 @@ class ServiceProxy:
         if conn is not None:
             call.conn = conn
             if not conn.ready:
-                pass  # header exchange in progress: the request leaves once it is done
+                conn.waiting.append(call)  # the request leaves once the header exchange is done
             else:
                 self._send_request(conn, call, world.env._now)  # type: ignore[arg-type]
             return call
@@ -140,10 +143,10 @@ class ServiceProxy:
             return call
         conn = ServiceConnection(self, entry.server, world.service_network.link(name, node.name))
         call.conn = conn
+        conn.waiting.append(call)
         if self.persistent:
             self._transport = conn
-        ev = Timeout(world.env, conn.link.sample(), (conn, entry.server))
-        ev.callbacks.append(self._on_header)
+        post(world.env, conn.link.sample(), (conn, entry.server), self._on_header)
         return call
 
     def _arm_timeout(self, call: PendingCall, ns: int) -> None:
@@ -160,7 +163,8 @@ class ServiceProxy:
         conn, server = ev._value
         if conn.closed:
             return  # the client gave up before connecting
-        waiting = self._calls_on(conn)
+        waiting = [call for call in conn.waiting if not call.done]
+        conn.waiting = []
         error = server._accept(conn)
         back = conn.link.sample()
         now: int = self.world.env._now  # type: ignore[assignment]
@@ -168,17 +172,17 @@ class ServiceProxy:
             conn.closed = True
             if self._transport is conn:
                 self._transport = None
-            fail = Timeout(self.world.env, back, (conn, error))
-            fail.callbacks.append(self._on_refused)
+            post(self.world.env, back, (waiting, error), self._on_refused)
             return
         conn.ready = True
         for call in waiting:
             self._send_request(conn, call, now + back)
 
     def _on_refused(self, ev: Any) -> None:
-        conn, error = ev._value
-        for call in self._calls_on(conn):
-            call.fail("connect", ServiceException(f"unable to connect to service: {error}"))
+        waiting, error = ev._value
+        for call in waiting:
+            if not call.done:
+                call.fail("connect", ServiceException(f"unable to connect to service: {error}"))
 
     def _send_request(self, conn: ServiceConnection, call: PendingCall, sent_at: int) -> None:
         """The request leaves the client at ``sent_at`` (FIFO per connection)."""
@@ -188,8 +192,7 @@ class ServiceProxy:
         if at < conn.last_request:
             at = conn.last_request
         conn.last_request = at
-        ev = Timeout(self.world.env, at - now, (conn, call))
-        ev.callbacks.append(self._on_request)
+        post(self.world.env, at - now, (conn, call), self._on_request)
 
     def _on_request(self, ev: Any) -> None:
         conn, call = ev._value
@@ -204,8 +207,7 @@ class ServiceProxy:
         if at < conn.last_response:
             at = conn.last_response
         conn.last_response = at
-        ev = Timeout(self.world.env, at - now, (call, ok, payload))
-        ev.callbacks.append(self._on_response)
+        post(self.world.env, at - now, (call, ok, payload), self._on_response)
 
     def _on_response(self, ev: Any) -> None:
         call, ok, payload = ev._value
@@ -227,8 +229,7 @@ class ServiceProxy:
         """The server went away during ``call``: the client learns it one latency later."""
         conn = call.conn
         assert conn is not None
-        ev = Timeout(self.world.env, conn.link.sample(), call)
-        ev.callbacks.append(self._on_transport_error)
+        post(self.world.env, conn.link.sample(), call, self._on_transport_error)
 
     def _on_transport_error(self, ev: Any) -> None:
         call = ev._value

@@ -58,8 +58,8 @@ def serialize(msg: Message) -> bytes:
 class ServiceConnection:
     """A client's TCPROS connection to one server (one call, or many if persistent)."""
 
-    __slots__ = ("id", "proxy", "server", "link", "persistent", "ready", "server_gone", "closed",
-                 "last_request", "last_response", "_in_progress")
+    __slots__ = ("id", "proxy", "server", "link", "persistent", "ready", "waiting", "server_gone",
+                 "closed", "last_request", "last_response", "_in_progress")
 
     def __init__(self, proxy: ServiceProxy, server: Service, link: ServiceLink) -> None:
         self.id = proxy.world.next_id("service_connection")
@@ -69,6 +69,8 @@ class ServiceConnection:
         self.persistent = proxy.persistent
         #: The header exchange is done: requests may be sent.
         self.ready = False
+        #: Calls whose request waits for the header exchange to finish.
+        self.waiting: list[PendingCall] = []
         #: The server shut down: nothing more crosses this connection.
         self.server_gone = False
         #: Either end closed it.
