@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import os
+from typing import Any
 
 import pytest
 
@@ -37,7 +38,7 @@ def test_bounds_are_inclusive_and_zero_time_is_no_bound() -> None:
     bag = Bag()
     for s in range(5):
         bag.write("/a", Int32(data=s), Time(s))
-    def data(**kw: object) -> list[int]:
+    def data(**kw: Any) -> list[int]:
         return [m.message.data for m in bag.read_messages(**kw)]
     assert data(start_time=Time(1), end_time=Time(3)) == [1, 2, 3]
     assert data(start_time=Time(0), end_time=Time(0)) == [0, 1, 2, 3, 4]

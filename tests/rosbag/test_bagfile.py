@@ -93,8 +93,9 @@ def test_rosbags_reads_what_ddes_writes(tmp_path: Path, compression: str) -> Non
     path = tmp_path / "x.bag"
     bag.save(str(path), compression=compression)
     with Reader(path) as reader:
-        got = [(c.topic, t, bytes(raw), c.msgtype, c.digest, c.msgdef.data, c.ext.callerid,
-                c.ext.latching) for c, t, raw in reader.messages()]
+        got = [(c.topic, t, bytes(raw), c.msgtype, c.digest, c.msgdef.data,
+                getattr(c.ext, "callerid", None), getattr(c.ext, "latching", None))
+               for c, t, raw in reader.messages()]
     want = []
     for topic, t, data, header in contents(bag):
         latching = header.get("latching")

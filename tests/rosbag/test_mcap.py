@@ -47,6 +47,7 @@ def test_ddes_mcap_is_ros1_profile_and_decodes_with_mcap_ros1() -> None:
     assert {s.encoding for s in summary.schemas.values()} == {"ros1msg"}
     assert channels["/map_name"].metadata["latching"] == "true"
     assert channels["/map_name"].metadata["callerid"] == "/map_server"
+    assert summary.statistics is not None
     assert summary.statistics.message_count == bag.get_message_count()
     got = [(ch.topic, msg.log_time, decoded) for _s, ch, msg, decoded
            in reader.iter_decoded_messages(log_time_order=True)]

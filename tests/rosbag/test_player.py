@@ -277,8 +277,10 @@ def test_loops_that_take_no_time_are_refused() -> None:
 def test_option_validation() -> None:
     world = World()
     bag = bag_at(1.0)
-    for kwargs, words in (({"rate": 0}, "rate"), ({"hz": -1}, "hz"), ({"delay": -1}, "delay"),
-                          ({"duration": 0}, "Invalid duration"), ({"skip_empty": 0}, "skip_empty")):
+    cases: list[tuple[dict[str, Any], str]] = [
+        ({"rate": 0}, "rate"), ({"hz": -1}, "hz"), ({"delay": -1}, "delay"),
+        ({"duration": 0}, "Invalid duration"), ({"skip_empty": 0}, "skip_empty")]
+    for kwargs, words in cases:
         with pytest.raises(DdesValueError, match=words):
             Player(world, bag, **kwargs)
     with pytest.raises(DdesValueError, match="at least one bag"):
