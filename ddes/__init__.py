@@ -13,12 +13,14 @@ from ddes.errors import (
     ROSSerializationException,
     ROSTimeMovedBackwardsException,
     ServiceException,
+    ServiceTimeout,
 )
 from ddes.graph.node import Node
 from ddes.kernel.trace import Trace, TraceEvent
 from ddes.kernel.world import World
 from ddes.msg import get_message_class, get_service_class
 from ddes.rosbag.bag import Bag
+from ddes.services import Service, ServiceClient, ServiceProxy, wait_for_service
 from ddes.time import (
     Duration,
     Rate,
@@ -47,7 +49,11 @@ __all__ = [
     "ROSTimeMovedBackwardsException",
     "Rate",
     "RoscppRate",
+    "Service",
+    "ServiceClient",
     "ServiceException",
+    "ServiceProxy",
+    "ServiceTimeout",
     "Time",
     "Timer",
     "TimerEvent",
@@ -63,4 +69,5 @@ __all__ = [
     "get_message_class",
     "get_service_class",
     "sleep",
+    "wait_for_service",
 ]

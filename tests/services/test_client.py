@@ -19,6 +19,7 @@ from ddes.errors import (
 )
 from ddes.msg import MessageRegistry
 from ddes.services import Service, ServiceClient, ServiceProxy
+from ddes.time.clock import SimClock
 
 L = 100_000
 MS = 1_000_000
@@ -374,6 +375,7 @@ class TestCallTimeout:
         adder(world, add_two_ints, delay=10.0)
         client = world.create_node("client", use_sim_time=True)
         clock = client.clock
+        assert isinstance(clock, SimClock)
 
         def drive() -> Generator[Any, Any, None]:
             for k in range(1, 100):

@@ -313,7 +313,7 @@ class TestRegistration:
         with pytest.raises(DdesTypeError, match="service_class must be a service class"):
             Service(node, "s", add_two_ints._request_class, lambda r: 0)
         with pytest.raises(DdesTypeError, match="handler must be callable"):
-            Service(node, "s", add_two_ints, "not callable")
+            Service(node, "s", add_two_ints, "not callable")  # type: ignore[arg-type]
         with pytest.raises(DdesValueError, match="style must be 'rospy' or 'roscpp'"):
             Service(node, "s", add_two_ints, lambda r: 0, style="rclpy")
 

@@ -10,6 +10,7 @@ import pytest
 import ddes
 from ddes.errors import ROSException, ROSInterruptException, ROSNameException
 from ddes.services import Service, ServiceProxy, wait_for_service
+from ddes.time.clock import SimClock
 
 MS = 1_000_000
 
@@ -127,6 +128,7 @@ def test_illegal_name(world: ddes.World) -> None:
 def test_on_simulated_time(world: ddes.World, run_client: Any, add_two_ints: Any) -> None:
     client = world.create_node("client", use_sim_time=True)
     clock = client.clock
+    assert isinstance(clock, SimClock)
 
     def drive() -> Generator[Any, Any, None]:
         yield world.timeout(1.0)
