@@ -669,7 +669,7 @@ class Bag:
 
     def _summary(self) -> BagSummary:
         stats = self._loaded
-        if stats is None or getattr(self, "_mcap_loaded", False) and not stats.chunks:
+        if stats is None or self._mcap_loaded:
             stats = self._encoding()[1]
         size = self._loaded.size if self._loaded is not None else stats.size
         return BagSummary(self._filename, size, stats.chunks, list(self._connections.values()),
