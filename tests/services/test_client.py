@@ -515,3 +515,22 @@ def _calls(node: ddes.Node, cls: Any, i: int) -> Generator[Any, Any, None]:
     proxy = ServiceProxy(node, "s", cls)
     for k in range(3):
         yield proxy(i, k)
+
+
+def test_same_md5_other_type_connects_as_in_ros(world: ddes.World, run_client: Any,
+                                                add_two_ints: Any, two_ints: Any) -> None:
+    # the connection header carries the md5sum only: AddTwoInts and TwoInts are interchangeable
+    Service(world.create_node("server"), "s", two_ints, lambda req: req.a * req.b)
+    client = world.create_node("client")
+    out = run_client(world, client, lambda: (yield ServiceProxy(client, "s", add_two_ints)(6, 7)))
+    assert out.value.sum == 42
+    assert type(out.value) is add_two_ints._response_class
+
+
+def test_proxy_wait_for_service(world: ddes.World, run_client: Any, add_two_ints: Any) -> None:
+    client = world.create_node("client", namespace="/ns")
+    proxy = ServiceProxy(client, "s", add_two_ints)
+    world.call_at(7 * MS, lambda: adder(world, add_two_ints, name="/ns/s"))
+    out = run_client(world, client, lambda: (yield proxy.wait_for_service(timeout=1.0)))
+    assert (out.error, out.t) == (None, 7 * MS)
+    assert repr(proxy) == "<ServiceProxy /ns/s [rospy_tutorials/AddTwoInts] of /ns/client>"
