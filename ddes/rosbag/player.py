@@ -255,6 +255,7 @@ class Player:
             return
         self._stopped = True
         self.node.shutdown(f"rosbag play: {reason}")
+        self.world.record("rosbag.done", self.node.name, reason=reason, published=self.published)
         self._poke()
         if not self.done.triggered:
             self.done.succeed(self.published)
@@ -347,6 +348,8 @@ class Player:
             while not self._stopped and any(p.get_num_connections() == 0
                                             for p in self._pubs.values()):
                 yield env.timeout(100_000_000)
+        self.world.record("rosbag.play", self.node.name, bags=len(self.bags),
+                          rate=float(self._rate), clock=self.publish_clock)
         while not self._stopped:
             began = env.now
             view = self._view()
@@ -362,6 +365,8 @@ class Player:
             if self._stopped:
                 return
             self.loops += 1
+            self.world.record("rosbag.loop", self.node.name, loops=self.loops,
+                              published=self.published)
             if self.keep_alive:
                 yield from self._keep_alive()
                 return

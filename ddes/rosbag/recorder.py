@@ -196,6 +196,7 @@ class Recorder:
             self._start_ns = node.clock.now_ns()
             target = self.path if self.path is not None else "memory"
             node.loginfo("Recording to '%s'.", target)
+            self.world.record("rosbag.record", node.name, path=target, topics=self.topics)
             if self._begin_pub is not None:
                 self._begin_pub.publish(data=target)
             if self.all or self.regex or self.node_filter:
@@ -222,6 +223,8 @@ class Recorder:
         self.node.shutdown(f"rosbag record: {reason}")
         if self.path is not None:
             self.bag.save(self.path)
+        self.world.record("rosbag.stop", self.node.name, reason=reason,
+                          messages=self.bag.get_message_count())
         if not self.done.triggered:
             self.done.succeed(self.bag)
 

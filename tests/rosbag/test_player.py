@@ -42,6 +42,9 @@ def test_bag_time_maps_onto_kernel_time_scaled_by_rate(world: World) -> None:
     assert [(k, d) for k, _, d in got] == [(0.2, 0), (0.45, 1), (1.2, 2)]
     assert player.published == 3 and player.node.is_shutdown()
     assert player.node.name == "/play_1"
+    marks = [(e.kind, e.t) for e in world.trace if e.kind.startswith("rosbag.")]
+    assert marks == [("rosbag.play", 200_000_000), ("rosbag.loop", 1_200_000_000),
+                     ("rosbag.done", 1_200_000_000)]
 
 
 def test_clock_ticks_at_hz_and_equals_the_message_time_on_delivery(world: World) -> None:

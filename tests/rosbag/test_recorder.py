@@ -105,6 +105,9 @@ def test_limit_records_n_per_topic_then_stops(tmp_path: Path, world: World) -> N
     assert [d for d, _ in data_times(rec.bag, "/b")] == [1, 2, 3]
     assert world.now == pytest.approx(1e9, abs=1e6)  # /b's third message at ~1.0 s
     assert Bag(out + ".bag").get_message_count() == 6
+    marks = [(e.kind, e.details) for e in world.trace if e.kind.startswith("rosbag.")]
+    assert marks == [("rosbag.record", {"path": out + ".bag", "topics": ["/a", "/b"]}),
+                     ("rosbag.stop", {"reason": "limit", "messages": 6})]
     assert not os.path.exists(out + ".bag.active")
 
 
