@@ -193,6 +193,8 @@ class Recorder:
         node = self.node
         try:
             yield node.clock.wait_valid()
+            if self._stopped:
+                return
             self._start_ns = node.clock.now_ns()
             target = self.path if self.path is not None else "memory"
             node.loginfo("Recording to '%s'.", target)

@@ -269,3 +269,13 @@ def test_recording_is_deterministic() -> None:
         return rec.bag.to_bytes(), world.digest()
 
     assert run() == run()
+
+
+def test_stopping_before_the_start_is_clean(tmp_path: Path) -> None:
+    world = World()
+    rec = Recorder(world, all=True, output_name=str(tmp_path / "early"))
+    rec.stop()
+    world.run(3.0)
+    assert rec.stop_reason == "stopped" and rec.start_time is None
+    assert Bag(str(tmp_path / "early.bag")).get_message_count() == 0
+    assert not rec.process.is_alive
