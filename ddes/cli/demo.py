@@ -84,12 +84,49 @@ def _topics_section(world: World, out: Callable[[str], None]) -> None:
     talker.process(main())
 
 
+def _services_section(world: World, out: Callable[[str], None]) -> None:
+    """Lecture 4, services: the add_two_ints server, a client, and a call timeout."""
+    from ddes.errors import ServiceException
+    from ddes.msg import get_service_class
+    from ddes.services import Service, ServiceProxy, wait_for_service
+
+    two_ints = get_service_class("roscpp_tutorials/TwoInts")
+    server = world.create_node("add_two_ints_server")
+
+    def add(req: Any) -> Generator[Any, Any, Any]:
+        if req.a < 0:
+            raise ServiceException("negative numbers are not supported")
+        yield server.sleep(0.05)  # the handler takes 50 ms of simulated time
+        return req.a + req.b
+
+    Service(server, "add_two_ints", two_ints, add)
+    client = world.create_node("add_two_ints_client")
+
+    def main() -> Generator[Any, Any, None]:
+        yield client.sleep(1.0)
+        yield wait_for_service(client, "add_two_ints", timeout=1.0)
+        proxy = ServiceProxy(client, "add_two_ints", two_ints)
+        resp = yield proxy(10, 5)
+        out(f"[{world.now / 1e9:7.3f}] client: 10 + 5 = {resp.sum}")
+        try:
+            yield proxy(-1, 5)
+        except ServiceException as exc:
+            out(f"[{world.now / 1e9:7.3f}] client: ServiceException: {exc}")
+        try:
+            yield proxy.call(two_ints._request_class(1, 2), timeout=0.01)
+        except ServiceException as exc:
+            out(f"[{world.now / 1e9:7.3f}] client: {type(exc).__name__}: {exc}")
+
+    client.process(main())
+
+
 def build_demo(seed: int = 0, out: Callable[[str], None] = print) -> World:
     """Create the demo world (not yet run)."""
     world = World(seed=seed)
     world.log_output = lambda line, level: out(line)
     _time_section(world, out)
     _topics_section(world, out)
+    _services_section(world, out)
     return world
 
 
