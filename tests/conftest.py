@@ -17,8 +17,16 @@ from collections.abc import Callable
 from typing import Any
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 import ddes
+
+# Simulated time makes every test deterministic, but the 2-core CI machine's
+# wall-clock speed is not: no per-example deadlines, no "too slow" checks.
+settings.register_profile(
+    "ddes", deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
+)
+settings.load_profile("ddes")
 
 
 def _system_python() -> str | None:
