@@ -322,7 +322,7 @@ class ActionClient:
         while not node.is_shutdown() and not self._closed:
             if self._server_connected():
                 return True
-            if deadline is not None and deadline.triggered:
+            if deadline is not None and deadline.processed:
                 return False
             arrival = env.event()
             self._status_waiters.append(arrival)
