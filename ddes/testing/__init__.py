@@ -1,5 +1,7 @@
-"""Testing helpers shipped with ddes: hypothesis strategies for messages."""
+"""Testing helpers shipped with ddes: hypothesis strategies for messages, protocol machines."""
 
+from ddes.testing.actions import ActionProtocolMachine, ProtocolViolation, run_protocol_machine
 from ddes.testing.strategies import durations, field_values, messages, times
 
-__all__ = ["durations", "field_values", "messages", "times"]
+__all__ = ["ActionProtocolMachine", "ProtocolViolation", "durations", "field_values", "messages",
+           "run_protocol_machine", "times"]

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Generator
 from typing import Any
 
-from ddes.actionlib import ActionServer, ServerGoalHandle, SimpleActionServer
+from ddes.actionlib import ActionServer, GoalStatus, ServerGoalHandle, SimpleActionServer
 from ddes.actionlib.cancel import ServerGoals
 from ddes.graph.node import Node
 from ddes.msg import get_message_class
@@ -126,3 +126,113 @@ class SimpleTester:
         else:
             node.logerr(f"Don't know how to terminate as {status}")
             server.set_aborted(None, f"Don't know how to terminate as {status}")
+
+
+# -- reference servers for the protocol machine ------------------------------------------------
+
+def make_tester(world: Any, node: Node) -> SimpleActionServer:
+    """The SimpleActionServer port of simple_tester_server.py (execute-callback mode)."""
+    return SimpleTester(node).server
+
+
+class TimedServer:
+    """An ActionServer on ``actionlib/Test``: goal ``g`` is rejected when ``g % 4 == 0``, else
+    accepted after 50 ms and finished ``(g % 10) * 0.1`` s later (odd: SUCCEEDED, even:
+    ABORTED); a cancel request cancels at once (RECALLED or PREEMPTED)."""
+
+    def __init__(self, node: Node, name: str = "timed") -> None:
+        self.node = node
+        self.server = ActionServer(node, name, RefAction, self.goal_cb, self.cancel_cb)
+        self.server.start()
+
+    def goal_cb(self, gh: ServerGoalHandle) -> None:
+        self.node.process(self.run(gh))
+
+    def run(self, gh: ServerGoalHandle) -> Generator[Any, Any, None]:
+        g = gh.get_goal().goal
+        yield self.node.sleep(0.05)
+        if gh.status not in (GoalStatus.PENDING, GoalStatus.RECALLING):
+            return  # cancelled meanwhile
+        if g % 4 == 0:
+            gh.set_rejected(None, "rejected")
+            return
+        gh.set_accepted()
+        yield self.node.sleep((g % 10) * 0.1)
+        if gh.status not in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING):
+            return
+        if g % 2:
+            gh.set_succeeded(RefResult(g), "done")
+        else:
+            gh.set_aborted(RefResult(g), "failed")
+
+    def cancel_cb(self, gh: ServerGoalHandle) -> None:
+        gh.set_canceled(None, "canceled")
+
+
+def make_timed(world: Any, node: Node) -> ActionServer:
+    return TimedServer(node).server
+
+
+class SamplingServer:
+    """A SimpleActionServer in goal/preempt-callback mode (like the averaging tutorial): a
+    10 Hz timer takes samples for the active goal; ``goal`` samples finish it (SUCCEEDED).
+    ``forget_preempt=True`` plants a bug: a preempted goal is never set to a terminal state."""
+
+    def __init__(self, node: Node, name: str = "sampling", forget_preempt: bool = False) -> None:
+        self.node = node
+        self.forget_preempt = forget_preempt
+        self.count = 0
+        self.target = 0
+        self.server = SimpleActionServer(node, name, RefAction, auto_start=False)
+        self.server.register_goal_callback(self.goal_cb)
+        self.server.register_preempt_callback(self.preempt_cb)
+        node.create_timer(0.1, self.sample)
+        self.server.start()
+
+    def goal_cb(self) -> None:
+        self.count = 0
+        self.target = abs(self.server.accept_new_goal().goal) % 8
+
+    def preempt_cb(self) -> None:
+        if not self.forget_preempt:
+            self.server.set_preempted()
+
+    def sample(self, _event: Any) -> None:
+        if not self.server.is_active() or self.server.is_preempt_requested():
+            return
+        self.count += 1
+        self.server.publish_feedback(RefFeedback(self.count))
+        if self.count > self.target:
+            self.server.set_succeeded(RefResult(self.count))
+
+
+def make_sampling(world: Any, node: Node) -> SimpleActionServer:
+    return SamplingServer(node).server
+
+
+def make_sampling_forgetful(world: Any, node: Node) -> SimpleActionServer:
+    return SamplingServer(node, forget_preempt=True).server
+
+
+RefFibonacciAction = get_message_class("actionlib_tutorials/FibonacciAction")
+FibFeedback = get_message_class("actionlib_tutorials/FibonacciFeedback")
+FibResult = get_message_class("actionlib_tutorials/FibonacciResult")
+
+
+def make_leaky_fibonacci(world: Any, node: Node) -> SimpleActionServer:
+    """A classic student bug: no ``return`` after ``set_preempted()``, so the loop goes on and
+    ends with ``set_succeeded()`` on a goal already PREEMPTED (an illegal transition)."""
+
+    def execute(goal: Any) -> Generator[Any, Any, None]:
+        seq = [0, 1]
+        for i in range(1, min(goal.order, 5)):
+            if server.is_preempt_requested():
+                server.set_preempted()
+            seq.append(seq[i] + seq[i - 1])
+            server.publish_feedback(FibFeedback(sequence=seq))
+            yield node.sleep(0.2)
+        server.set_succeeded(FibResult(sequence=seq))
+
+    server = SimpleActionServer(node, "fibonacci", RefFibonacciAction, execute, auto_start=False)
+    server.start()
+    return server

@@ -1,0 +1,536 @@
+"""A hypothesis state machine that checks ANY action server against the actionlib protocol.
+
+Point it at a server factory ``make_server(world, node) -> server`` (a
+student's server, say) and it drives the server through random schedules:
+goals, cancels of one goal, of all goals and of goals before a stamp, newer
+goals that preempt older ones, latency changes on the five topics
+(``world.set_link``) and the passing of simulated time.  A protocol client
+(:class:`~ddes.actionlib.ActionClient`) sends the goals; a spy node records
+every status array, result and feedback on the wire.  After every step it
+checks:
+
+1. **only legal transitions**: each goal's statuses, in the order the status
+   arrays carry them, follow the server goal table; no ``LOST`` on the wire;
+   the server recorded no illegal goal-handle call (``action.server.illegal``)
+   and raised no exception in a callback; the client saw no invalid transition;
+2. **terminal states are final**: after a terminal status (or the result) no
+   array shows the goal in another status;
+3. **exactly one result per goal**: never two results for one goal id; at the
+   end (after cancelling everything and letting ``settle`` seconds pass) every
+   goal the server reported has its one result, placeholders of cancels
+   excepted;
+4. **client and server agree**: a goal the client has DONE has the result's
+   status; every status the client reports was on the wire;
+5. **LOST only when the protocol says so**: a goal leaves the status array
+   only once it has been terminal for longer than ``status_list_timeout`` (or
+   was a cancel placeholder), and the client marks a goal LOST only after the
+   server dropped it.
+
+A failure shrinks to a minimal schedule.  Hypothesis prints it as the steps
+of the machine (``state.send_goal(goal={...})``, with ``print_blob`` the
+``@reproduce_failure`` line), and the :class:`ProtocolViolation` message holds
+the world seed, the schedule with simulated times, and the last wire events,
+so the run can be replayed and read.
+
+Use it from pytest::
+
+    from ddes.testing.actions import ActionProtocolMachine
+
+    def make_server(world, node):
+        return MyServer(node)            # anything on the five topics of `ns`
+
+    TestMyServer = ActionProtocolMachine.for_server(
+        make_server, action="actionlib_tutorials/FibonacciAction", ns="/fibonacci")
+
+or run it directly: ``run_protocol_machine(make_server, max_examples=50)``.
+"""
+
+from __future__ import annotations
+
+import unittest
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from hypothesis import HealthCheck, settings
+from hypothesis import strategies as st
+from hypothesis.stateful import (
+    RuleBasedStateMachine,
+    initialize,
+    invariant,
+    precondition,
+    rule,
+    run_state_machine_as_test,
+)
+
+from ddes.actionlib._common import ActionTypes
+from ddes.actionlib.client import ActionClient, ClientGoalHandle
+from ddes.actionlib.states import (
+    SERVER_STATES,
+    SERVER_TRANSITIONS,
+    TERMINAL_STATUSES,
+    CommState,
+    GoalStatus,
+)
+from ddes.errors import DdesTypeError, DdesValueError
+from ddes.kernel.world import World
+from ddes.msg import dict_to_message, get_message_class, message_to_dict
+from ddes.testing.strategies import messages
+
+__all__ = [
+    "LATENCIES",
+    "STEPS",
+    "ActionProtocolMachine",
+    "ProtocolViolation",
+    "run_protocol_machine",
+]
+
+_NS = 1_000_000_000
+#: The latencies (seconds) the machine puts on the five topics.
+LATENCIES: tuple[float, ...] = (0.0, 0.001, 0.02, 0.1, 0.3)
+#: The spans of simulated time (seconds) one ``advance`` step lets pass.
+STEPS: tuple[float, ...] = (0.0, 0.01, 0.05, 0.2, 0.5, 1.0, 2.0)
+_TOPICS = ("goal", "cancel", "status", "feedback", "result")
+
+
+def _closure() -> dict[GoalStatus, frozenset[GoalStatus]]:
+    """For each server status, the statuses reachable in one or more legal transitions."""
+    out: dict[GoalStatus, frozenset[GoalStatus]] = {}
+    for start in SERVER_STATES:
+        seen: set[GoalStatus] = set()
+        todo = [start]
+        while todo:
+            s = todo.pop()
+            for target in SERVER_TRANSITIONS[s].values():
+                if target is not None and target not in seen:
+                    seen.add(target)
+                    todo.append(target)
+        out[start] = frozenset(seen)
+    return out
+
+
+_REACHABLE = _closure()  # immutable after import: a cache of the table's transitive closure
+
+
+class ProtocolViolation(AssertionError):
+    """The server (or the wire) broke the actionlib protocol; the message says how and when."""
+
+
+def _name(status: int) -> str:
+    return GoalStatus(status).name if 0 <= status <= GoalStatus.LOST else f"<invalid {status}>"
+
+
+@dataclass
+class _Goal:
+    """What the spy saw of one goal id."""
+
+    arrays: list[tuple[int, int, int]] = field(default_factory=list)  # (arrival, stamp, status)
+    results: list[tuple[int, int, int]] = field(default_factory=list)
+    present: bool = False
+    dropped: tuple[int, int] | None = None  # (arrival, stamp) of the first array without it
+
+    @property
+    def placeholder(self) -> bool:
+        """Only ever seen RECALLING, without a result: a cancel placeholder."""
+        return not self.results and all(s == GoalStatus.RECALLING for _a, _t, s in self.arrays)
+
+    def statuses(self) -> set[int]:
+        return {s for _a, _t, s in self.arrays} | {s for _a, _t, s in self.results}
+
+
+class _Spy:
+    """A node that records the wire and checks each message as it arrives."""
+
+    def __init__(self, world: World, ns: str, types: ActionTypes, timeout_ns: int) -> None:
+        self.world = world
+        self.timeout_ns = timeout_ns
+        self.goals: dict[str, _Goal] = {}
+        self.violations: list[str] = []
+        self.events: list[str] = []
+        node = world.create_node("protocol_spy", disable_rosout=True)
+        status_cls = get_message_class("actionlib_msgs/GoalStatusArray")
+        node.subscribe(ns + "/status", status_cls, self._status)
+        node.subscribe(ns + "/result", types.action_result, self._result)
+        node.subscribe(ns + "/feedback", types.action_feedback, self._feedback)
+
+    def _log(self, text: str) -> None:
+        self.events.append(f"{self.world.now / _NS:10.6f}s  {text}")
+        del self.events[:-40]
+
+    def _bad(self, text: str) -> None:
+        self.violations.append(f"at {self.world.now / _NS:.6f}s: {text}")
+
+    def _goal(self, gid: str) -> _Goal:
+        g = self.goals.get(gid)
+        if g is None:
+            g = self.goals[gid] = _Goal()
+        return g
+
+    def _status(self, msg: Any) -> None:
+        now, stamp = self.world.now, msg.header.stamp.to_nsec()
+        listed: dict[str, int] = {}
+        for st_ in msg.status_list:
+            listed.setdefault(st_.goal_id.id, st_.status)
+        self._log("status " + ", ".join(f"{gid}={_name(s)}" for gid, s in listed.items()))
+        for gid, status in listed.items():
+            g = self._goal(gid)
+            self._check_status(gid, g, status, stamp)
+            if g.dropped is not None:
+                self._bad(f"goal {gid} is back in the status array after it was dropped")
+            g.arrays.append((now, stamp, status))
+            g.present = True
+        for gid, g in self.goals.items():
+            if g.present and gid not in listed:
+                g.present = False
+                g.dropped = (now, stamp)
+                self._check_drop(gid, g, stamp)
+
+    def _check_status(self, gid: str, g: _Goal, status: int, stamp: int) -> None:
+        if not 0 <= status < GoalStatus.LOST:
+            self._bad(f"goal {gid}: status {_name(status)} on the wire (LOST is client-only; "
+                      "valid statuses are 0..8)")
+            return
+        new = GoalStatus(status)
+        if g.arrays:
+            old = GoalStatus(g.arrays[-1][2])
+            if new != old and new not in _REACHABLE[old]:
+                what = "terminal state is not final" if old in TERMINAL_STATUSES else \
+                    "illegal transition"
+                self._bad(f"goal {gid}: {what}: the status array went {old.name} -> {new.name}")
+        for _arr, rstamp, rstatus in g.results:
+            if stamp > rstamp and new != rstatus:
+                self._bad(f"goal {gid}: the status array says {new.name} after its result "
+                          f"({_name(rstatus)}, stamped {rstamp / _NS:.6f}s)")
+
+    def _check_drop(self, gid: str, g: _Goal, stamp: int) -> None:
+        if g.placeholder:
+            return
+        if not g.results:
+            self._bad(f"goal {gid} left the status array without a result (last status "
+                      f"{_name(g.arrays[-1][2])})")
+            return
+        rstamp = g.results[0][1]
+        if stamp - rstamp <= self.timeout_ns:
+            self._bad(f"goal {gid} left the status array {(stamp - rstamp) / _NS:.6f}s after its "
+                      f"result; it must stay status_list_timeout = {self.timeout_ns / _NS}s")
+
+    def _result(self, msg: Any) -> None:
+        gid, status = msg.status.goal_id.id, msg.status.status
+        stamp = msg.header.stamp.to_nsec()
+        self._log(f"result {gid}={_name(status)}")
+        g = self._goal(gid)
+        if g.results:
+            self._bad(f"goal {gid}: a second result ({_name(status)}) after "
+                      f"{_name(g.results[0][2])}: every goal gets exactly one result")
+        if status not in TERMINAL_STATUSES:
+            self._bad(f"goal {gid}: result with the non-terminal status {_name(status)}")
+        for _arr, astamp, astatus in g.arrays:
+            if (astamp < stamp and 0 <= astatus < GoalStatus.LOST and status != astatus
+                    and status not in _REACHABLE.get(GoalStatus(astatus), frozenset())):
+                self._bad(f"goal {gid}: result {_name(status)} cannot follow the status "
+                          f"{_name(astatus)} reported before it")
+                break
+        g.results.append((self.world.now, stamp, status))
+
+    def _feedback(self, msg: Any) -> None:
+        self._log(f"feedback {msg.status.goal_id.id}={_name(msg.status.status)}")
+        if msg.status.status == GoalStatus.LOST:
+            self._bad(f"goal {msg.status.goal_id.id}: feedback carries the status LOST")
+
+
+class ActionProtocolMachine(RuleBasedStateMachine):
+    """The protocol machine; make one for a server with :meth:`for_server` or :meth:`machine_for`.
+
+    Class attributes set by :meth:`machine_for`: ``make_server``, ``action``
+    (the ActionSpec), ``ns``, ``settle`` (seconds given at the end to finish
+    every goal), ``server_node`` (the server node's name).
+    """
+
+    make_server: ClassVar[Callable[[World, Any], Any] | None] = None
+    action: ClassVar[Any] = None
+    ns: ClassVar[str] = ""
+    settle: ClassVar[float] = 30.0
+    server_node: ClassVar[str] = "action_server"
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.world: World | None = None
+        self.handles: list[ClientGoalHandle] = []
+        self.schedule: list[str] = []
+        self._acked: set[str] = set()
+        self._failed = False
+
+    # -- set-up ---------------------------------------------------------------------------
+    @classmethod
+    def machine_for(
+        cls,
+        make_server: Callable[[World, Any], Any],
+        *,
+        action: Any = None,
+        ns: str | None = None,
+        goals: st.SearchStrategy[Any] | None = None,
+        settle: float = 30.0,
+        name: str | None = None,
+    ) -> type[ActionProtocolMachine]:
+        """A machine class for ``make_server(world, node) -> server``.
+
+        ``action`` (the ``FooAction`` class or its name) and ``ns`` default to
+        the server's own ``ActionSpec`` and ``ns`` attributes (ddes's servers
+        have them); ``goals`` draws the goals to send (default: any ``FooGoal``
+        from :func:`ddes.testing.messages`).
+        """
+        if not callable(make_server):
+            raise DdesTypeError(f"make_server must be callable (world, node) -> server, "
+                                f"got {make_server!r}")
+        if action is None or ns is None:
+            found_action, found_ns = _discover(make_server)
+            action = found_action if action is None else action
+            ns = found_ns if ns is None else ns
+        types = ActionTypes.of(action)
+        if not isinstance(ns, str) or not ns.startswith("/"):
+            raise DdesValueError(f"ns must be the server's resolved action namespace "
+                                 f"('/fibonacci'), got {ns!r}")
+        goal_cls = types.goal
+        strategy = goals if goals is not None else messages(goal_cls, max_size=3)
+        goal_dicts = strategy.map(lambda g: message_to_dict(g) if hasattr(g, "_type") else g)
+
+        class Machine(cls):  # type: ignore[valid-type,misc]
+            @rule(goal=goal_dicts)
+            def send_goal(self, goal: dict[str, Any]) -> None:
+                """Send a goal (given as a dict of its fields)."""
+                self._send(dict_to_message(goal_cls, goal))
+
+        Machine.make_server = staticmethod(make_server)  # type: ignore[assignment]
+        Machine.action = types.spec
+        Machine.ns = ns
+        Machine.settle = float(settle)
+        Machine.__name__ = Machine.__qualname__ = name or (
+            f"ProtocolMachine_{getattr(make_server, '__name__', 'server')}")
+        return Machine
+
+    @classmethod
+    def for_server(
+        cls,
+        make_server: Callable[[World, Any], Any],
+        *,
+        action: Any = None,
+        ns: str | None = None,
+        goals: st.SearchStrategy[Any] | None = None,
+        settle: float = 30.0,
+        max_examples: int = 50,
+        stateful_step_count: int = 20,
+        **settings_kw: Any,
+    ) -> type[unittest.TestCase]:
+        """A ``unittest.TestCase`` class (pytest collects it) running the machine on the server."""
+        machine = cls.machine_for(make_server, action=action, ns=ns, goals=goals, settle=settle)
+        case = machine.TestCase
+        case.settings = _settings(max_examples, stateful_step_count, **settings_kw)
+        return case
+
+    @initialize(seed=st.integers(0, 2**16))
+    def start(self, seed: int) -> None:
+        """Build the world: the server, a protocol client and the spy; wait for the server."""
+        make = type(self).make_server
+        if make is None:
+            raise DdesValueError("use ActionProtocolMachine.machine_for(make_server) or "
+                                 "for_server(make_server): the base class has no server")
+        world = self.world = World(seed)
+        world.raise_callback_errors = False
+        self.seed = seed
+        types = ActionTypes.of(type(self).action)
+        node = world.create_node(type(self).server_node)
+        self.server = make(world, node)
+        timeout = world.params.get_param(self.ns + "/status_list_timeout", 5.0)
+        self.spy = _Spy(world, self.ns, types, int(round(float(timeout) * _NS)))
+        self.client = ActionClient(world.create_node("protocol_client", disable_rosout=True),
+                                   self.ns, types.spec)
+        self.schedule.append(f"world seed {seed}")
+        up = self.client.wait_for_server(5.0)
+        world.run(until=up)
+        if up.value is not True:
+            self._fail(f"the server did not come up on {self.ns} within 5 s (no status on "
+                       f"{self.ns}/status, or not connected to goal/cancel/result/feedback)")
+
+    # -- rules ------------------------------------------------------------------------------
+    def _note(self, text: str) -> None:
+        assert self.world is not None
+        self.schedule.append(f"{self.world.now / _NS:10.6f}s  {text}")
+
+    def _send(self, goal: Any) -> None:
+        gh = self.client.send_goal(goal, transition_cb=self._transition)
+        self.handles.append(gh)
+        self._note(f"send_goal {gh.get_goal_id()}: {message_to_dict(goal)}")
+
+    def _transition(self, gh: ClientGoalHandle) -> None:
+        self._acked.add(gh.get_goal_id())
+
+    def _cancellable(self) -> list[ClientGoalHandle]:
+        """Goals the server has acknowledged and the client still follows."""
+        return [h for h in self.handles
+                if h.get_goal_id() in self._acked and h.get_comm_state() != CommState.DONE]
+
+    def _live(self) -> list[ClientGoalHandle]:
+        return [h for h in self.handles if h.get_comm_state() != CommState.DONE]
+
+    @precondition(lambda self: bool(self._cancellable()))
+    @rule(index=st.integers(0, 7))
+    def cancel_goal(self, index: int) -> None:
+        """Cancel one goal the server has acknowledged and the client still follows.
+
+        (A goal cancelled before its acknowledgement is marked LOST by rospy's
+        client on the next status array that does not list it yet: a client
+        quirk, not a server fault, so the machine cancels such goals only
+        through ``cancel_all_goals`` and ``cancel_goals_at_and_before_time``.)
+        """
+        live = self._cancellable()
+        gh = live[index % len(live)]
+        self._note(f"cancel_goal {gh.get_goal_id()}")
+        gh.cancel()
+
+    @precondition(lambda self: bool(self.handles))
+    @rule()
+    def cancel_all_goals(self) -> None:
+        """Cancel everything (id "", stamp 0)."""
+        self._note("cancel_all_goals")
+        self.client.cancel_all_goals()
+
+    @precondition(lambda self: bool(self.handles))
+    @rule(index=st.integers(0, 7))
+    def cancel_goals_at_and_before_time(self, index: int) -> None:
+        """Cancel the goals stamped at or before the stamp of one goal sent."""
+        gh = self.handles[index % len(self.handles)]
+        stamp = gh.comm_state_machine.action_goal.goal_id.stamp
+        self._note(f"cancel_goals_at_and_before_time {stamp.to_sec():.6f}")
+        self.client.cancel_goals_at_and_before_time(stamp)
+
+    @rule(topic=st.sampled_from(_TOPICS), latency=st.sampled_from(LATENCIES))
+    def set_latency(self, topic: str, latency: float) -> None:
+        """Change the latency of one of the five topics (FIFO per connection is kept)."""
+        assert self.world is not None
+        self._note(f"set_link {self.ns}/{topic} latency={latency}")
+        self.world.set_link(f"{self.ns}/{topic}", latency=latency)
+
+    @rule(seconds=st.sampled_from(STEPS))
+    def advance(self, seconds: float) -> None:
+        """Let simulated time pass."""
+        assert self.world is not None
+        self._note(f"advance {seconds}s")
+        self.world.run_for(seconds)
+
+    # -- checks -----------------------------------------------------------------------------
+    def _fail(self, problem: str) -> None:
+        self._failed = True
+        assert self.world is not None
+        lines = [f"actionlib protocol violated by the server on {self.ns}:", f"  {problem}", "",
+                 f"replay: world seed {self.seed}; schedule (simulated time, step):"]
+        lines += [f"  {s}" for s in self.schedule]
+        lines += ["", "last messages on the wire:"] + [f"  {e}" for e in self.spy.events[-15:]]
+        raise ProtocolViolation("\n".join(lines))
+
+    @invariant()
+    def protocol_holds(self) -> None:
+        """Checks 1-5 after every step (see the module docstring)."""
+        if self.world is None:
+            return
+        world = self.world
+        if self.spy.violations:
+            self._fail(self.spy.violations[0])
+        server_name = "/" + type(self).server_node
+        illegal = world.trace.filter(kind="action.server.illegal", source=server_name)
+        if illegal:
+            d = illegal[0].details
+            self._fail(f"the server made an illegal goal-handle call: {d['event']} on goal "
+                       f"{d['id']} in state {d['state']} ({d['error']})")
+        errors = [e for e in world.callback_errors if e[0] == server_name]
+        if errors:
+            self._fail(f"a server callback raised: {errors[0][1]}: {errors[0][2]!r}\n{errors[0][3]}")
+        if self.client.invalid_transitions:
+            ev = world.trace.filter(kind="action.client.invalid")[0]
+            self._fail(f"the client saw an invalid status sequence for goal {ev.details['id']}: "
+                       f"{ev.details['error']}")
+        for gh in self.handles:
+            self._check_agreement(gh)
+
+    def _check_agreement(self, gh: ClientGoalHandle) -> None:
+        gid = gh.get_goal_id()
+        g = self.spy.goals.get(gid)
+        status = gh.get_goal_status()
+        if status == GoalStatus.LOST:
+            if g is None or g.dropped is None:
+                self._fail(f"the client marked goal {gid} LOST but the server never dropped it "
+                           "from the status array")
+            return
+        if g is None:
+            return  # nothing on the wire yet: the client still waits for the goal's ack
+        if gh.get_comm_state() == CommState.DONE:
+            if not g.results:
+                self._fail(f"goal {gid} is DONE on the client without a result on the wire")
+            elif g.results[0][2] != status:
+                self._fail(f"client and server disagree on goal {gid}: the client says "
+                           f"{_name(status)}, the result says {_name(g.results[0][2])}")
+        elif status not in g.statuses() and status != GoalStatus.PENDING:
+            self._fail(f"the client reports {_name(status)} for goal {gid}, a status the server "
+                       "never sent")
+
+    def teardown(self) -> None:
+        """Cancel everything, let ``settle`` seconds pass, then require one result per goal."""
+        if self.world is None or self._failed:
+            return
+        world = self.world
+        self._note("teardown: cancel_all_goals, then run until every goal is done")
+        for topic in _TOPICS:
+            world.set_link(f"{self.ns}/{topic}", latency=0.0)
+        self.client.cancel_all_goals()
+        deadline = world.now + int(type(self).settle * _NS)
+        while world.now < deadline and (self._live() or self._unfinished()):
+            world.run_for(0.5)
+        self.protocol_holds()
+        late = self._unfinished()
+        if late:
+            gid = late[0]
+            self._fail(f"goal {gid} never got a result ({len(late)} goal(s) unfinished "
+                       f"{type(self).settle}s after cancelling everything; last status "
+                       f"{_name(self.spy.goals[gid].arrays[-1][2])})")
+        for gh in self.handles:
+            if gh.get_comm_state() != CommState.DONE:
+                self._fail(f"goal {gh.get_goal_id()} is not DONE on the client "
+                           f"{type(self).settle}s after cancelling everything (comm state "
+                           f"{gh.get_comm_state().name})")
+
+    def _unfinished(self) -> list[str]:
+        return [gid for gid, g in self.spy.goals.items()
+                if g.arrays and not g.results and not g.placeholder]
+
+
+def _discover(make_server: Callable[[World, Any], Any]) -> tuple[Any, str]:
+    """The ActionSpec and namespace of the server a factory makes (built in a scratch world)."""
+    world = World(0)
+    node = world.create_node("action_server")
+    server = make_server(world, node)
+    inner = getattr(server, "action_server", None) or getattr(server, "server", None)
+    for obj in (server, inner, getattr(inner, "action_server", None)):
+        spec, ns = getattr(obj, "ActionSpec", None), getattr(obj, "ns", None)
+        if spec is not None and isinstance(ns, str):
+            return spec, ns
+    raise DdesValueError(
+        f"cannot tell the action type and namespace of {server!r}: pass action= and ns= "
+        "(e.g. action='actionlib_tutorials/FibonacciAction', ns='/fibonacci')")
+
+
+def _settings(max_examples: int, stateful_step_count: int, **kw: Any) -> settings:
+    kw.setdefault("deadline", None)
+    kw.setdefault("suppress_health_check", [HealthCheck.too_slow, HealthCheck.filter_too_much,
+                                            HealthCheck.data_too_large])
+    kw.setdefault("print_blob", True)
+    return settings(max_examples=max_examples, stateful_step_count=stateful_step_count, **kw)
+
+
+def run_protocol_machine(make_server: Callable[[World, Any], Any], *, action: Any = None,
+                         ns: str | None = None, goals: st.SearchStrategy[Any] | None = None,
+                         settle: float = 30.0, max_examples: int = 50,
+                         stateful_step_count: int = 20, **settings_kw: Any) -> None:
+    """Run the machine on a server now; raises (after shrinking) on a violation."""
+    machine = ActionProtocolMachine.machine_for(make_server, action=action, ns=ns, goals=goals,
+                                                settle=settle)
+    run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
+                                                          **settings_kw))
