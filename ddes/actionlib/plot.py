@@ -140,8 +140,8 @@ def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
     """Draw the goals of ``trace`` over simulated time; returns the Figure.
 
     Bars: the server-side status of each goal; diamonds: terminal statuses;
-    ``|`` ticks: feedback; ``x``: cancel requests received; ``v``: preempt
-    requests; black squares: the client marked the goal LOST.  ``until``
+    ``|`` ticks: feedback; ``x`` (above the bar): cancel requests received;
+    ``^`` (below): preempt requests; black squares: the client marked the goal LOST.  ``until``
     (seconds or a Time) ends the bars of unfinished goals; by default the
     last event of the trace.  Pass ``ax`` to draw into existing axes.
     """
@@ -189,7 +189,7 @@ def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
             ax.plot([t * sec for t in tl.cancels], [y + 0.38] * len(tl.cancels), marker="x",
                     color="#d62728", linestyle="none")
         if tl.preempts:
-            ax.plot([t * sec for t in tl.preempts], [y + 0.38] * len(tl.preempts), marker="v",
+            ax.plot([t * sec for t in tl.preempts], [y - 0.4] * len(tl.preempts), marker="^",
                     color="#f2a541", linestyle="none")
         if tl.lost:
             ax.plot([t * sec for t in tl.lost], [y] * len(tl.lost), marker="s", color="black",
@@ -197,6 +197,9 @@ def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
     ax.set_yticks(list(range(len(timelines))))
     ax.set_yticklabels([tl.goal_id for tl in reversed(timelines)], fontsize=7)
     ax.set_ylim(-0.8, max(len(timelines), 1) - 0.2)
+    start = min((tl.first_seen for tl in timelines), default=0)
+    span = max(end - start, 1)
+    ax.set_xlim((start - 0.02 * span) * sec, (end + 0.12 * span) * sec)
     ax.set_xlabel("simulated time [s]")
     ax.set_title(title if title is not None else f"goals of {ns}" if ns else "action goals")
     handles: list[Any] = [Patch(color=STATUS_COLORS[s], label=s)
@@ -205,7 +208,7 @@ def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
         Line2D([], [], marker="|", color="#333333", linestyle="none", markersize=10,
                label="feedback"),
         Line2D([], [], marker="x", color="#d62728", linestyle="none", label="cancel received"),
-        Line2D([], [], marker="v", color="#f2a541", linestyle="none", label="preempt request"),
+        Line2D([], [], marker="^", color="#f2a541", linestyle="none", label="preempt request"),
     ]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
               frameon=False)
