@@ -420,3 +420,20 @@ def test_handles_of_stopped_tracking_goals_stop_updating(world: ddes.World) -> N
     client.send_goal(RefGoal(5))
     world.run_for(0.5)
     assert gh.get_goal_status() == GoalStatus.ACTIVE  # the SUCCEEDED was not applied
+
+
+def test_cancel_before_the_ack_marks_the_goal_lost_as_rospy_does(world: ddes.World) -> None:
+    """rospy's LOST rule does not exempt WAITING_FOR_CANCEL_ACK: a goal cancelled before the
+    server acknowledged it is LOST on the next status array that does not list it yet."""
+    _, client = ref(world)
+    world.set_link("/reference_action/goal", latency=0.3)
+    world.set_link("/reference_action/cancel", latency=0.3)
+    gh = client.send_goal(RefGoal(4))
+    gh.cancel()
+    world.run_for(0.25)  # a periodic status array (without the goal) arrives at 0.2 s
+    assert gh.get_comm_state() == CommState.DONE
+    assert gh.get_goal_status() == GoalStatus.LOST
+    world.run_for(1.0)
+    # the server got the goal, then the cancel: the goal was PREEMPTING when the client gave up
+    assert [e.details["after"] for e in world.trace.filter(kind="action.server.transition")] == [
+        "ACTIVE", "PREEMPTING"]

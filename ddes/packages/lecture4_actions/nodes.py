@@ -66,14 +66,15 @@ class FollowPathServer:
                      len(goal.path.poses), total)
         rate = node.create_rate(self.feedback_rate)
         step = self.speed / self.feedback_rate
+        steps = max(1, math.ceil(round(total / step, 9)))  # no float drift in the step count
         travelled = 0.0
-        while travelled < total:
+        for k in range(1, steps + 1):
             if server.is_preempt_requested():
                 node.loginfo("%s: preempted with %.2f m to go", self.name, total - travelled)
                 server.set_preempted(self.Result(success=False))
                 return
             yield rate.sleep()
-            travelled = min(total, travelled + step)
+            travelled = min(total, k * step)
             server.publish_feedback(self.Feedback(remaining_distance=total - travelled,
                                                   initial_distance=total))
         node.loginfo("%s: reached the end of the path", self.name)
