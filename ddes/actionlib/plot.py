@@ -16,8 +16,9 @@ the same under any backend; notebooks display the returned Figure.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from ddes.actionlib.states import TERMINAL_STATUSES, GoalStatus
@@ -32,7 +33,7 @@ if TYPE_CHECKING:
 __all__ = ["STATUS_COLORS", "GoalTimeline", "goal_timelines", "plot_goals"]
 
 #: Colour of each status in the plot (bars for the live ones, markers for the terminal ones).
-STATUS_COLORS: dict[str, str] = {
+STATUS_COLORS: Mapping[str, str] = MappingProxyType({
     "PENDING": "#bdbdbd",
     "ACTIVE": "#4c9be8",
     "PREEMPTING": "#f2a541",
@@ -43,7 +44,7 @@ STATUS_COLORS: dict[str, str] = {
     "REJECTED": "#8c564b",
     "RECALLED": "#9467bd",
     "LOST": "#000000",
-}
+})
 _TERMINAL_NAMES = frozenset(s.name for s in TERMINAL_STATUSES)
 
 

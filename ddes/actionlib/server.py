@@ -421,6 +421,7 @@ class ActionServer:
         node = self.node
         t = gh._tracker
         if gh.goal is None or t is None:
+            self._uninitialized_debug_line(gh)
             if event is not ServerEvent.CANCEL_REQUEST:
                 misuse(node, self.ns, UNINITIALIZED_HANDLE_TEXT, method=event.ros_method)
             return None
@@ -442,6 +443,14 @@ class ActionServer:
         self._commit(out.goals, out.publications, result)
         return tr
 
+    @staticmethod
+    def _uninitialized_debug_line(gh: ServerGoalHandle) -> None:
+        """rospy's handle methods start with ``logdebug("... id: %s, stamp: %.2f",
+        self.get_goal_id().id, self.get_goal_id().stamp.to_sec())``: on a handle without a
+        goal, those two calls each log "Attempt to get a goal id ..." first, as here."""
+        gh.get_goal_id()
+        gh.get_goal_id()
+
     def _illegal(self, goal_id: str, tr: ServerTransition) -> None:
         self.illegal_transitions += 1
         node = self.node
@@ -453,6 +462,7 @@ class ActionServer:
         node = self.node
         t = gh._tracker
         if gh.goal is None or t is None:
+            self._uninitialized_debug_line(gh)
             misuse(node, self.ns, "Attempt to publish feedback on an uninitialized ServerGoalHandle")
             return
         check_message(feedback, self.types.feedback, "publish_feedback: the feedback",

@@ -48,8 +48,9 @@ or run it directly: ``run_protocol_machine(make_server, max_examples=50)``.
 from __future__ import annotations
 
 import unittest
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any, ClassVar
 
 from hypothesis import HealthCheck, settings
@@ -93,7 +94,7 @@ STEPS: tuple[float, ...] = (0.0, 0.01, 0.05, 0.2, 0.5, 1.0, 2.0)
 _TOPICS = ("goal", "cancel", "status", "feedback", "result")
 
 
-def _closure() -> dict[GoalStatus, frozenset[GoalStatus]]:
+def _closure() -> Mapping[GoalStatus, frozenset[GoalStatus]]:
     """For each server status, the statuses reachable in one or more legal transitions."""
     out: dict[GoalStatus, frozenset[GoalStatus]] = {}
     for start in SERVER_STATES:
@@ -106,10 +107,11 @@ def _closure() -> dict[GoalStatus, frozenset[GoalStatus]]:
                     seen.add(target)
                     todo.append(target)
         out[start] = frozenset(seen)
-    return out
+    return MappingProxyType(out)
 
 
-_REACHABLE = _closure()  # immutable after import: a cache of the table's transitive closure
+#: Read-only cache of the server table's transitive closure (computed once from pure data).
+_REACHABLE = _closure()
 
 
 class ProtocolViolation(AssertionError):
