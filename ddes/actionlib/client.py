@@ -332,6 +332,8 @@ class ActionClient:
             if deadline is not None:
                 events.append(deadline)
             yield env.any_of(events)
+            if not arrival.triggered and arrival in self._status_waiters:
+                self._status_waiters.remove(arrival)
         return False
 
     # -- incoming -------------------------------------------------------------------------

@@ -124,6 +124,8 @@ class SimpleActionClient:
             clock = node.clock
             events.append(clock.wait_until(clock.now_ns() + timeout_ns))
         yield env.any_of(events)
+        if not done.triggered and done in self._done_waiters:
+            self._done_waiters.remove(done)  # woken by the deadline or a shutdown
         return self.simple_state == SimpleGoalState.DONE
 
     def get_result(self) -> Any:
