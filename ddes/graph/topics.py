@@ -131,12 +131,13 @@ class Connection:
 
     __slots__ = ("pub", "sub", "id", "world", "_fixed", "_draw", "_loss", "_rng", "_last",
                  "_sent", "_seq0", "lost", "received", "dropped", "delivered", "closed", "header",
-                 "batchable")
+                 "batchable", "pub_name")
 
     def __init__(self, world: World, pub: Publisher, sub: Subscriber, link: LinkModel) -> None:
         self.world = world
         self.pub = pub
         self.sub = sub
+        self.pub_name = pub.node.name
         self.id = world.next_id("connection")
         self._rng: random.Random | None = None
         self._last = 0
@@ -371,6 +372,8 @@ class Subscriber:
         self._internal = internal
         self._any = data_class is AnyMsg
         self._in_progress = False
+        self._env = node.world.env
+        self._trace = node.world.trace
         node._add_entity(self)
         node._subscribed.append(self)
         self.world.master.register_subscriber(self)
@@ -394,9 +397,13 @@ class Subscriber:
         if self._internal or (not node._busy and not self._queue and not self._in_progress):
             # Fast path: the spinner is free, run the callback now.
             conn.delivered += 1
-            world = self.world
-            world.trace.record_fast((world.env._now, "topic.deliver", node.name, _DELIVER_KEYS,
-                                     self.resolved_name, conn.pub.node.name, seq))
+            trace = self._trace
+            row = (self._env._now, "topic.deliver", node.name, _DELIVER_KEYS,
+                   self.resolved_name, conn.pub_name, seq)
+            if trace.enabled and not trace._listeners:
+                trace._raw.append(row)
+            else:
+                trace.record_fast(row)
             cb = self.callback
             if cb is None:
                 return
