@@ -120,6 +120,64 @@ def _services_section(world: World, out: Callable[[str], None]) -> None:
     client.process(main())
 
 
+def _actions_section(world: World, out: Callable[[str], None]) -> None:
+    """Lecture 4, actions: a Fibonacci SimpleActionServer preempted by a newer goal."""
+    from ddes.actionlib import GoalStatus, SimpleActionClient, SimpleActionServer
+    from ddes.msg import get_message_class
+
+    action = get_message_class("actionlib_tutorials/FibonacciAction")
+    goal_cls = get_message_class("actionlib_tutorials/FibonacciGoal")
+    feedback_cls = get_message_class("actionlib_tutorials/FibonacciFeedback")
+    result_cls = get_message_class("actionlib_tutorials/FibonacciResult")
+    node = world.create_node("fibonacci")
+
+    def execute(goal: Any) -> Generator[Any, Any, None]:
+        seq = [0, 1]
+        for i in range(1, goal.order):
+            if server.is_preempt_requested():
+                server.set_preempted()
+                return
+            seq.append(seq[i] + seq[i - 1])
+            server.publish_feedback(feedback_cls(sequence=seq))
+            yield node.sleep(0.1)
+        server.set_succeeded(result_cls(sequence=seq))
+
+    server = SimpleActionServer(node, "fibonacci", action, execute, auto_start=False)
+    server.start()
+    first = SimpleActionClient(world.create_node("first_client"), "fibonacci", action)
+    second = SimpleActionClient(world.create_node("second_client"), "fibonacci", action)
+
+    def report(who: str) -> Callable[[int, Any], None]:
+        def done(state: int, result: Any) -> None:
+            n = len(result.sequence) if result is not None else 0
+            out(f"[{world.now / 1e9:7.3f}] {who}: goal {GoalStatus(state).name}, "
+                f"{n} numbers")
+        return done
+
+    def main() -> Generator[Any, Any, None]:
+        yield first.wait_for_server(1.0)
+        first.send_goal(goal_cls(order=8), done_cb=report("first_client"))
+        yield world.timeout(0.35)
+        second.send_goal(goal_cls(order=4), done_cb=report("second_client"))
+
+    world.process(main())
+
+
+def _bags_section(world: World, out: Callable[[str], None]) -> None:
+    """Lecture 4, bags: record /chatter in memory while the demo runs."""
+    from ddes.rosbag import Recorder
+
+    rec = Recorder(world, ["/chatter"], duration=1.5, in_memory=True, quiet=True)
+
+    def report() -> Generator[Any, Any, None]:
+        yield rec.done
+        bag = rec.bag
+        out(f"[{world.now / 1e9:7.3f}] rosbag record: {bag.get_message_count()} messages on "
+            f"/chatter between {bag.get_start_time():.3f} s and {bag.get_end_time():.3f} s")
+
+    world.process(report())
+
+
 def build_demo(seed: int = 0, out: Callable[[str], None] = print) -> World:
     """Create the demo world (not yet run)."""
     world = World(seed=seed)
@@ -127,6 +185,8 @@ def build_demo(seed: int = 0, out: Callable[[str], None] = print) -> World:
     _time_section(world, out)
     _topics_section(world, out)
     _services_section(world, out)
+    _actions_section(world, out)
+    _bags_section(world, out)
     return world
 
 
