@@ -18,6 +18,7 @@ its log lines print (``"rospy"`` or ``"roscpp"``), so a C++ tutorial node prints
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -55,7 +56,8 @@ def load_node_types(package_dir: Path) -> dict[str, NodeType]:
     path = Path(package_dir) / "nodes.py"
     if not path.is_file():
         return {}
-    mod_name = f"_ddes_nodes_{abs(hash(str(path.resolve())))}"
+    # a stable module name (not hash(), which varies with PYTHONHASHSEED)
+    mod_name = "_ddes_nodes_" + hashlib.sha256(str(path.resolve()).encode()).hexdigest()[:16]
     spec = importlib.util.spec_from_file_location(mod_name, path)
     if spec is None or spec.loader is None:  # pragma: no cover - a .py file always has a loader
         raise DdesError(f"cannot load node types from {path}")

@@ -69,6 +69,9 @@ class AnyMsg:
     def serialize(self, buff: Any) -> None:
         buff.write(self._buff)
 
+    def _serialize_to_bytes(self) -> bytes:
+        return self._buff
+
     def deserialize(self, data: bytes) -> AnyMsg:
         self._buff = bytes(data)
         return self
@@ -190,7 +193,7 @@ class Connection:
         if self._loss and self._rng is not None and self._rng.random() < self._loss:
             self.lost += 1
             world.trace.record_fast((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
-                                     self.pub.resolved_name, self.pub.node.name, seq, "loss"))
+                                     self.pub.resolved_name, self.pub_name, seq, "loss"))
             return
         delay = self._fixed if self._draw is None else _latency_ns(self._draw(self._rng))
         at = now + delay
@@ -255,7 +258,6 @@ class Publisher:
         self._trace = node.world.trace
         self._node_name = node.name
         self._has_header = bool(getattr(data_class, "_has_header", False))
-        self._serialize: Callable[[Any], bytes] = _serializer()
         if queue_size is None:
             self.world.record("warning", node.name, topic=self.resolved_name,
                               text="The publisher should be created with an explicit keyword "
@@ -281,7 +283,7 @@ class Publisher:
         try:
             data = msg._serialize_to_bytes()
         except Exception:  # noqa: BLE001 - re-done with the checks that name the bad field
-            data = self._serialize(msg)
+            data = _serialize_checked(msg)
         if self.latch:
             self._latched = data
         env = self._env
@@ -379,12 +381,6 @@ class Subscriber:
         self.world.master.register_subscriber(self)
         self.world.record("topic.subscribe", node.name, topic=self.resolved_name, type=self.type)
 
-    def _message(self, conn: Connection, data: bytes) -> Any:
-        if self._any:
-            return AnyMsg(data, dict(conn.header))
-        msg = self.data_class.__new__(self.data_class)
-        return msg._deserialize_from(data)
-
     def _receive(self, conn: Connection, data: bytes, seq: int) -> None:
         if self._closed:
             return
@@ -422,21 +418,18 @@ class Subscriber:
             old_conn, _old, old_seq = q.popleft()
             old_conn.dropped += 1
             self.world.trace.record_fast((self.world.env._now, "topic.drop", node.name, _DROP_KEYS,
-                                          self.resolved_name, old_conn.pub.node.name, old_seq,
+                                          self.resolved_name, old_conn.pub_name, old_seq,
                                           "queue_full"))
         node._enqueue(self._call_queued, (), owner=self)
 
     def _call_queued(self) -> Any:
+        """The spinner's entry: deliver the oldest queued message (roscpp SubscriptionQueue::call)."""
         if not self._queue or self._closed:
             return None
         conn, msg, seq = self._queue.popleft()
-        return self._call(conn, msg, seq, queued=True)
-
-    def _call(self, conn: Connection, msg: Any, seq: int, queued: bool = False) -> Any:
         conn.delivered += 1
-        world = self.world
-        world.trace.record_fast((world.env._now, "topic.deliver", self.node.name, _DELIVER_KEYS,
-                                 self.resolved_name, conn.pub.node.name, seq))
+        self._trace.record_fast((self._env._now, "topic.deliver", self.node.name, _DELIVER_KEYS,
+                                 self.resolved_name, conn.pub_name, seq))
         cb = self.callback
         if cb is None:
             return None
@@ -474,18 +467,14 @@ def _check_data_class(data_class: Any, name: str) -> None:
         )
 
 
-def _serializer() -> Callable[[Any], bytes]:
+def _serialize_checked(msg: Any) -> bytes:
+    """Serialize after the fast path failed: the error names the bad field (ROS's exception)."""
     from ddes.msg.message import serialize_checked
 
-    def serialize(msg: Any) -> bytes:
-        if isinstance(msg, AnyMsg):
-            return msg._buff
-        try:
-            return serialize_checked(msg)
-        except ROSSerializationException:
-            raise
-        except Exception as exc:  # noqa: BLE001 - anything else is a serialization failure too
-            raise ROSSerializationException(f"cannot serialize {type(msg).__name__}: {exc}") from exc
-
-    return serialize
+    try:
+        return serialize_checked(msg)
+    except ROSSerializationException:
+        raise
+    except Exception as exc:  # noqa: BLE001 - anything else is a serialization failure too
+        raise ROSSerializationException(f"cannot serialize {type(msg).__name__}: {exc}") from exc
 
