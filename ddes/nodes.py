@@ -30,7 +30,7 @@ from ddes.errors import DdesError
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
     from ddes.rospack import RosPack
 
 __all__ = ["NodeType", "NodeTypeNotFound", "load_node_types", "start_node"]

@@ -23,7 +23,7 @@ from typing import Any
 
 import ddes
 from ddes.actionlib import GoalStatus, SimpleActionClient, plot_goals
-from ddes.cli.tooling import run_command
+from ddes.console.tooling import run_command
 from ddes.msg import get_message_class
 from ddes.nodes import start_node
 

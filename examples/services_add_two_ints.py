@@ -21,7 +21,7 @@ from collections.abc import Generator
 from typing import Any
 
 import ddes
-from ddes.cli.tooling import run_command
+from ddes.console.tooling import run_command
 from ddes.msg import get_service_class
 from ddes.services import Service, ServiceException, ServiceProxy, ServiceTimeout, wait_for_service
 

@@ -51,7 +51,7 @@ from ddes.actionlib.states import (
 from ddes.errors import DdesTypeError
 from ddes.graph.rosout import WARN
 from ddes.time.rostime import Time
-from ddes.time.sleep import duration_ns
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
@@ -198,7 +198,7 @@ class ActionClient:
     """``ActionClient(node, ns, ActionSpec)``: send goals, follow them, cancel them."""
 
     def __init__(self, node: Node, ns: str, ActionSpec: Any) -> None:  # noqa: N803 - rospy's name
-        node._check_alive("create an action client")
+        node.check_alive("create an action client")
         if not isinstance(ns, str) or not ns:
             raise DdesTypeError(f"action namespace must be a non-empty string, got {ns!r}")
         from ddes.msg import get_message_class
@@ -236,7 +236,7 @@ class ActionClient:
                                          queue_size=sub_q)
         self.feedback_sub = node.subscribe(ns_r + "/feedback", self.ActionFeedback,
                                            self._feedback_cb, queue_size=sub_q)
-        node._add_entity(self)
+        node.add_entity(self)
 
     # -- sending --------------------------------------------------------------------------
     def send_goal(self, goal: Any, transition_cb: Callable[[ClientGoalHandle], Any] | None = None,
@@ -283,7 +283,7 @@ class ActionClient:
         self.pub_cancel.publish(msg)
 
     def _check_open(self, what: str) -> None:
-        self.node._check_alive(what)
+        self.node.check_alive(what)
         if self._closed:
             from ddes.errors import ROSActionException
 
@@ -299,7 +299,7 @@ class ActionClient:
         feedback topics.  ``timeout`` (ROS time; 0 means for ever) makes the
         value False when it expires first.
         """
-        return self.node.process(self._wait_for_server(duration_ns(timeout, "timeout")))
+        return self.node.process(self._wait_for_server(duration_to_ns(timeout, "timeout")))
 
     wait_for_action_server_to_start = wait_for_server
 
@@ -414,4 +414,4 @@ class ActionClient:
     def shutdown(self) -> None:
         """The node is shutting down."""
         self.stop()
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)

@@ -69,7 +69,7 @@ from ddes.time.rostime import Duration
 if TYPE_CHECKING:
     from ddes.graph.node import Node
     from ddes.graph.topics import Publisher, Subscriber
-    from ddes.time.timer import Timer, TimerEvent
+    from ddes.graph.timer import Timer, TimerEvent
 
 __all__ = ["AUTO_START_WARNING", "ActionServer", "ServerGoalHandle"]
 
@@ -212,7 +212,7 @@ class ActionServer:
         cancel_cb: Callable[[ServerGoalHandle], Any] | None = None,
         auto_start: bool = False,
     ) -> None:
-        node._check_alive("create an action server")
+        node.check_alive("create an action server")
         if not isinstance(ns, str) or not ns:
             raise DdesTypeError(f"action namespace must be a non-empty string, got {ns!r}")
         if not callable(goal_cb):
@@ -251,7 +251,7 @@ class ActionServer:
         self.result_pub: Publisher | None = None
         self.feedback_pub: Publisher | None = None
         self.status_timer: Timer | None = None
-        node._add_entity(self)
+        node.add_entity(self)
         if self.auto_start:
             misuse(node, self.ns, AUTO_START_WARNING, level=WARN)
             self.start()
@@ -283,7 +283,7 @@ class ActionServer:
     # -- lifecycle ------------------------------------------------------------------------
     def start(self) -> None:
         """Create the topics and the status timer, then publish the status (rospy ``start``)."""
-        self.node._check_alive("start an action server")
+        self.node.check_alive("start an action server")
         if self.started:
             misuse(self.node, self.ns, f"action server {self.ns} is already started; "
                    "start() was ignored", level=WARN)
@@ -348,7 +348,7 @@ class ActionServer:
     def shutdown(self) -> None:
         """The node is shutting down."""
         self.stop()
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)
 
     # -- publishing -----------------------------------------------------------------------
     def _now(self) -> int:

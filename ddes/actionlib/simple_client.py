@@ -33,7 +33,7 @@ from ddes.actionlib.states import (
     simple_transition,
 )
 from ddes.time.rostime import Time
-from ddes.time.sleep import duration_ns
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
@@ -110,7 +110,7 @@ class SimpleActionClient:
         if self.gh is None:
             misuse(self.node, self.ns, "Called wait_for_result when no goal exists")
             return env.timeout(0, False)
-        return self.node.process(self._wait_for_result(duration_ns(timeout, "timeout")))
+        return self.node.process(self._wait_for_result(duration_to_ns(timeout, "timeout")))
 
     def _wait_for_result(self, timeout_ns: int) -> Generator[Any, Any, bool]:
         node = self.node

@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable, Generator
 from typing import Any
 
-from ddes.kernel.world import World
-from ddes.time.timer import TimerEvent
+from ddes.graph.world import World
+from ddes.graph.timer import TimerEvent
 
 __all__ = ["build_demo", "run_demo"]
 

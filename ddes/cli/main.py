@@ -16,8 +16,8 @@ __all__ = ["COMMAND_MODULES", "build_parser", "main"]
 #: which adds its parser and sets ``func`` (args -> exit code) with
 #: ``set_defaults``; a new tool is one more line here.
 COMMAND_MODULES: tuple[str, ...] = (
-    "ddes.cli.rosmsg",
-    "ddes.cli.rosbag",
+    "ddes.console.rosmsg",
+    "ddes.console.rosbag",
     "ddes.cli.console",
     "ddes.cli.run",
 )

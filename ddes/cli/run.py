@@ -68,7 +68,7 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
 
     Returns the world (for its trace and digest).
     """
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
     from ddes.launch import load_launch, resolve_launch_args
     from ddes.launch.runtime import LaunchRunner, LogRouter
     from ddes.rospack import RosPack
@@ -90,7 +90,7 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
 def run_scenario(path: str | Path, *, until: float, seed: int = 0,
                  out: Callable[[str], None] = _print_line) -> Any:
     """Run a Python scenario file (``def scenario(world)``) for ``until`` simulated seconds."""
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
     file = Path(path)
     if not file.is_file():

@@ -18,7 +18,7 @@ from ddes.graph.params import ParamServer
 if TYPE_CHECKING:
     from ddes.graph.node import Node
     from ddes.graph.topics import Publisher, Subscriber
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
 __all__ = ["Master", "ServiceEntry", "TopicEntry"]
 
@@ -142,8 +142,8 @@ class Master:
 
     def lookup_node(self, name: str) -> Node | None:
         """The live node called ``name``, or None."""
-        return self.world._nodes.get(name)
+        return self.world.lookup_node(name)
 
     def node_names(self) -> list[str]:
         """Names of all live nodes, sorted (as ``rosnode list`` prints them)."""
-        return sorted(self.world._nodes)
+        return sorted(self.world.nodes)

@@ -12,49 +12,56 @@ the kernel clock, or a :class:`~ddes.time.clock.SimClock` following
 ``/clock`` when the node uses simulated time (``/use_sim_time``).
 
 Callbacks and the spinner.  Every callback of a node (message, timer,
-service request) goes through the node's callback queue:
+service request, action and dynamic_reconfigure callbacks) goes through the
+node's one callback queue, :attr:`Node.callbacks`
+(:class:`~ddes.graph.callbacks.CallbackQueue`).  ``spinner=`` picks the
+policy: ``"single"`` (default, roscpp's ``ros::spin()``: one callback at a
+time; a generator callback holds the spinner while it takes simulated time),
+an int N (``AsyncSpinner(N)``), ``"rospy"`` (a thread per subscription,
+timer and service connection, concurrent with the node's main), or
+``"manual"`` (callbacks wait for ``yield node.spin_once()``).
 
-* ``spinner="single"`` (default, roscpp's ``ros::spin()``): one callback at a
-  time, FIFO.  A plain function finishes at once; a generator callback takes
-  simulated time, and while it runs the others wait in the queue (so a full
-  subscriber queue drops its oldest message).
-* ``spinner=N`` (an int, roscpp's ``AsyncSpinner(N)``): up to N callbacks at
-  once; callbacks of the same subscription never overlap.
-* ``spinner="manual"`` (roscpp's ``ros::spinOnce()`` loops): callbacks wait
-  until the node's own loop calls ``yield node.spin_once()``.
+The entity contract.  Rooms above the graph (services, actionlib, rosbag,
+tf2, sim) attach their entities to a node through :meth:`Node.check_alive`,
+:meth:`Node.add_entity` and :meth:`Node.remove_entity`; the node calls each
+entity's ``shutdown()`` when it shuts down.
 """
 
 from __future__ import annotations
 
-import traceback
-from collections import deque
 from collections.abc import Callable, Generator, Sequence
-from types import GeneratorType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import simpy
 
 from ddes.errors import DdesTypeError, DdesValueError, NodeShutdownError
-from ddes.graph.names import NameResolver, is_legal_base_name, parse_node_args
+from ddes.graph.callbacks import CallbackQueue, SpinnerPolicy
+from ddes.graph.names import NameResolver, anonymous_name, is_legal_base_name, parse_node_args
 from ddes.graph.rosout import DEBUG, ERROR, FATAL, INFO, WARN, NodeLogger
+from ddes.graph.timer import Timer, TimerEvent
 from ddes.time.clock import Clock, SimClock
 from ddes.time.rate import Rate, RoscppRate, WallRate
 from ddes.time.rostime import Time, WallTime
 from ddes.time.sleep import duration_sleep, sleep
-from ddes.time.timer import Timer, TimerEvent
 
 if TYPE_CHECKING:
     from ddes.graph.topics import Publisher, Subscriber
-    from ddes.kernel.world import World
-    from ddes.services.server import Service
+    from ddes.graph.world import World
 
-__all__ = ["Node"]
+__all__ = ["Entity", "Node"]
+
+
+class Entity(Protocol):
+    """What a node owns: anything with ``shutdown()`` (publishers, timers, services...)."""
+
+    def shutdown(self) -> Any: ...
+
 
 _UNSET: Any = object()
 
 
 class Node:
-    """A ROS node inside a :class:`~ddes.kernel.world.World`.
+    """A ROS node inside a :class:`~ddes.graph.world.World`.
 
     Parameters
     ----------
@@ -75,7 +82,7 @@ class Node:
     use_sim_time:
         Follow ``/clock``; ``None`` reads ``/use_sim_time`` at start, as rospy.
     spinner:
-        ``"single"``, ``"manual"`` or a number of threads (see module docstring).
+        ``"single"``, ``"manual"``, ``"rospy"`` or a number of threads (see module docstring).
     log_level:
         The logger level (``"debug"``, ``"info"`` ...).
     log_style:
@@ -94,7 +101,7 @@ class Node:
         remappings: dict[str, str] | None = None,
         anonymous: bool = False,
         use_sim_time: bool | None = None,
-        spinner: str | int = "single",
+        spinner: SpinnerPolicy = "single",
         log_level: str | int = "info",
         log_style: str = "rospy",
         disable_rosout: bool = False,
@@ -104,8 +111,6 @@ class Node:
         args = parse_node_args(list(argv))
         base = args.name or name
         if anonymous and not args.name:  # rospy: __name:= turns anonymous off
-            from ddes.graph.names import anonymous_name
-
             base = anonymous_name(base, world.next_id("anonymous"))
         if not base.startswith("/") and not is_legal_base_name(base):
             raise DdesValueError(
@@ -124,32 +129,17 @@ class Node:
         if use_sim_time is None:
             use_sim_time = bool(master.params.get_param("/use_sim_time", False))
         self.use_sim_time = bool(use_sim_time)
-        self.clock: Clock = SimClock(world) if self.use_sim_time else world.kernel_clock
+        self.clock: Clock = SimClock(world.env) if self.use_sim_time else world.kernel_clock
         self._entities: list[Any] = []
         self._published: list[Publisher] = []
         self._subscribed: list[Subscriber] = []
         self._shutdown = False
         self._shutdown_hooks: list[Callable[[str], Any]] = []
         self._shutdown_event: simpy.Event | None = None
-        # callback queue / spinner
-        if spinner == "single":
-            self._threads, self._manual = 1, False
-        elif spinner == "manual":
-            self._threads, self._manual = 1, True
-        elif isinstance(spinner, int) and not isinstance(spinner, bool) and spinner >= 1:
-            self._threads, self._manual = spinner, False
-        else:
-            raise DdesValueError(
-                f"spinner must be 'single', 'manual' or a number of threads >= 1, got {spinner!r}")
+        #: The node's callback queue and spinner (:mod:`ddes.graph.callbacks`).
+        self.callbacks = CallbackQueue(self, spinner)
         self.spinner = spinner
-        self._cbq: deque[tuple[Callable[..., Any], tuple[Any, ...], Callable[[], Any] | None, Any]] = deque()
-        self._running = 0
-        #: True while new callbacks must wait in the queue (timers check it).
-        self._busy = self._manual
-        old = world._nodes.get(self.name)
-        if old is not None:
-            old.shutdown("new node registered with same name")
-        world._nodes[self.name] = self
+        world.register_node(self)
         world.record("node.start", self.name, use_sim_time=self.use_sim_time)
         for key, value in args.params.items():
             master.params.set_param(self.resolve_name("~" + key), value)
@@ -204,13 +194,11 @@ class Node:
         if self._shutdown:
             return
         self._shutdown = True
-        self._busy = True
+        self.callbacks.close()
         for ent in reversed(list(self._entities)):
             ent.shutdown()
         self._entities.clear()
-        self._cbq.clear()
-        if self.world._nodes.get(self.name) is self:
-            del self.world._nodes[self.name]
+        self.world.unregister_node(self)
         self.world.record("node.shutdown", self.name, reason=reason)
         for hook in self._shutdown_hooks:
             hook(reason)
@@ -225,144 +213,40 @@ class Node:
                 self._shutdown_event.succeed("")
         return self._shutdown_event
 
-    def _check_alive(self, what: str) -> None:
+    # -- the entity contract (services, actionlib, rosbag, tf2 and sim use these) -------
+    def check_alive(self, what: str) -> None:
+        """Raise :class:`NodeShutdownError` if the node is shut down ("cannot {what}: ...")."""
         if self._shutdown:
             raise NodeShutdownError(
                 f"cannot {what}: node {self.name} is shut down; create a new node"
             )
 
-    def _add_entity(self, ent: Any) -> None:
+    def add_entity(self, ent: Entity) -> None:
+        """Own ``ent``: its ``shutdown()`` is called when the node shuts down."""
         self._entities.append(ent)
 
-    def _remove_entity(self, ent: Any) -> None:
+    def remove_entity(self, ent: Entity) -> None:
+        """Stop owning ``ent`` (it shut down on its own)."""
         if ent in self._entities:
             self._entities.remove(ent)
 
+    @property
+    def entities(self) -> list[Entity]:
+        """The entities the node owns, oldest first (a copy)."""
+        return list(self._entities)
+
     # -- callbacks and spinning ---------------------------------------------------------------
-    def _update_busy(self) -> None:
-        self._busy = self._manual or self._shutdown or self._running >= self._threads or bool(self._cbq)
-
-    def _invoke(
-        self,
-        fn: Callable[..., Any],
-        args: tuple[Any, ...],
-        on_done: Callable[[], Any] | None = None,
-        owner: Any = None,
-    ) -> None:
-        """Run a callback through the node's queue (at once when the spinner is free)."""
-        if self._busy or (owner is not None and getattr(owner, "_in_progress", False)):
-            self._enqueue(fn, args, on_done, owner)
-        else:
-            self._run_now(fn, args, on_done, owner)
-
-    def _enqueue(self, fn: Callable[..., Any], args: tuple[Any, ...],
-                 on_done: Callable[[], Any] | None = None, owner: Any = None) -> None:
-        if self._shutdown:
-            return
-        self._cbq.append((fn, args, on_done, owner))
-        self._busy = True
-        if not self._manual:
-            self._drain()
-
-    def _drain(self) -> None:
-        q = self._cbq
-        while q and self._running < self._threads and not self._manual and not self._shutdown:
-            index = next((k for k, entry in enumerate(q)
-                          if entry[3] is None or not getattr(entry[3], "_in_progress", False)), -1)
-            if index < 0:
-                break  # every queued callback belongs to a subscription still running
-            entry = q[index]
-            del q[index]
-            self._run_now(*entry)
-        self._update_busy()
-
-    def _run_now(self, fn: Callable[..., Any], args: tuple[Any, ...],
-                 on_done: Callable[[], Any] | None, owner: Any) -> None:
-        try:
-            result = fn(*args)
-        except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
-            if on_done is not None:
-                on_done()
-            self._callback_error(fn, exc)
-            return
-        if type(result) is GeneratorType:
-            self._adopt_generator(fn, result, on_done, owner)
-        elif on_done is not None:
-            on_done()
-
-    def _adopt_generator(self, fn: Callable[..., Any], gen: Generator[Any, Any, Any],
-                         on_done: Callable[[], Any] | None, owner: Any) -> None:
-        """Run a generator callback as a process; the spinner is busy until it ends."""
-        self._running += 1
-        self._busy = True
-        if owner is not None:
-            owner._in_progress = True
-        proc = self.world.env.process(self._run_generator(fn, gen))
-        proc.callbacks.append(lambda _p: self._finished(on_done, owner))
-
-    def _finished(self, on_done: Callable[[], Any] | None, owner: Any) -> None:
-        self._running -= 1
-        if owner is not None:
-            owner._in_progress = False
-        if on_done is not None:
-            on_done()
-        if self._cbq and not self._manual:
-            self._drain()
-        else:
-            self._update_busy()
-
-    def _run_generator(self, fn: Callable[..., Any], gen: Generator[Any, Any, Any]) -> Generator[Any, Any, Any]:
-        try:
-            return (yield from gen)
-        except Exception as exc:  # noqa: BLE001
-            self._callback_error(fn, exc)
-            return None
-
-    def _callback_error(self, fn: Callable[..., Any], exc: BaseException) -> None:
-        name = getattr(fn, "__qualname__", repr(fn))
-        self.world.record(
-            "callback.exception",
-            self.name,
-            callback=name,
-            error=f"{type(exc).__name__}: {exc}",
-        )
-        self.world.callback_errors.append((self.name, name, exc, traceback.format_exc()))
-        if self.world.raise_callback_errors:
-            raise exc
-
     def spin_once(self) -> simpy.Event:
         """Run the callbacks queued now, one at a time (roscpp ``spinOnce``).
 
         Meant for ``spinner="manual"`` nodes: ``yield node.spin_once()`` in the
         node's main loop.  The event fires when they have all finished.
         """
-        return self.world.env.process(self._spin_once())
-
-    def _spin_once(self) -> Generator[Any, Any, int]:
-        n = len(self._cbq)
-        done = 0
-        for _ in range(n):
-            if not self._cbq or self._shutdown:
-                break
-            fn, args, on_done, _owner = self._cbq.popleft()
-            try:
-                result = fn(*args)
-            except Exception as exc:  # noqa: BLE001
-                if on_done is not None:
-                    on_done()
-                self._callback_error(fn, exc)
-                continue
-            if type(result) is GeneratorType:
-                yield self.world.env.process(self._run_generator(fn, result))
-            if on_done is not None:
-                on_done()
-            done += 1
-        self._update_busy()
-        return done
+        return self.callbacks.spin_once()
 
     def process(self, generator: Generator[Any, Any, Any]) -> simpy.Process:
         """Start a process belonging to this node (e.g. its main loop)."""
-        self._check_alive("start a process")
+        self.check_alive("start a process")
         return self.world.env.process(generator)
 
     # -- topics ----------------------------------------------------------------------------------
@@ -392,18 +276,6 @@ class Node:
         from ddes.graph.waiting import wait_for_message
 
         return wait_for_message(self, topic, data_class, timeout)
-
-    def advertise_service(self, name: str, service_class: Any, handler: Callable[..., Any],
-                          **kwargs: Any) -> Service:
-        """A :class:`~ddes.services.server.Service` (rospy.Service; roscpp advertiseService).
-
-        ``style="roscpp"`` for ``handler(req, resp) -> bool`` callbacks.
-        """
-        from ddes.services.server import Service
-
-        return Service(self, name, service_class, handler, **kwargs)
-
-    create_service = advertise_service
 
     # -- parameters --------------------------------------------------------------------------------
     def get_param(self, name: str, default: Any = _UNSET) -> Any:
@@ -495,7 +367,7 @@ class Node:
 
     def sleep(self, duration: Any) -> simpy.Event:
         """rospy.sleep on this node's clock: ``yield node.sleep(0.5)``."""
-        self._check_alive("sleep")
+        self.check_alive("sleep")
         return sleep(self.clock, duration)
 
     def duration_sleep(self, duration: Any) -> simpy.Event:
@@ -508,17 +380,17 @@ class Node:
 
     def create_rate(self, hz: float, reset: bool = False) -> Rate:
         """rospy.Rate on this node's clock."""
-        self._check_alive("create a rate")
+        self.check_alive("create a rate")
         return Rate(self, hz, reset)
 
     def create_roscpp_rate(self, hz: float) -> RoscppRate:
         """roscpp ros::Rate on this node's clock."""
-        self._check_alive("create a rate")
+        self.check_alive("create a rate")
         return RoscppRate(self, hz)
 
     def create_wall_rate(self, hz: float) -> WallRate:
         """ros::WallRate: a rate on the kernel clock."""
-        self._check_alive("create a rate")
+        self.check_alive("create a rate")
         return WallRate(self.world, hz)
 
     def create_timer(
@@ -528,7 +400,7 @@ class Node:
         oneshot: bool = False,
         reset: bool = False,
     ) -> Timer:
-        """A periodic or one-shot :class:`~ddes.time.timer.Timer`."""
+        """A periodic or one-shot :class:`~ddes.graph.timer.Timer`."""
         return Timer(self, period, callback, oneshot, reset)
 
     def __repr__(self) -> str:

@@ -94,9 +94,9 @@ class NodeLogger:
                 return
             self._once.add(site)
         if throttle is not None:
-            from ddes.time.sleep import duration_ns
+            from ddes.time.units import duration_to_ns
 
-            period = duration_ns(throttle, "throttle period")
+            period = duration_to_ns(throttle, "throttle period")
             now = node.clock.now_ns()
             last = self._last.get(site)
             if last is not None and now - last < period:

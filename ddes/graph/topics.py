@@ -27,7 +27,6 @@ from __future__ import annotations
 import random
 from collections import deque
 from collections.abc import Callable
-from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import (
@@ -36,45 +35,31 @@ from ddes.errors import (
     ROSException,
     ROSSerializationException,
 )
-from ddes.kernel.post import post
+from ddes.kernel.events import post
+from ddes.msg.anymsg import AnyMsg
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
-    from ddes.graph.node import Node
-    from ddes.kernel.world import World
+    from simpy import Timeout
 
-__all__ = ["AnyMsg", "Connection", "LinkModel", "Publisher", "Subscriber", "args_kwds_to_message"]
+    from ddes.graph.node import Node
+    from ddes.graph.world import World
+
+__all__ = [
+    "AnyMsg",
+    "Connection",
+    "LinkModel",
+    "Publisher",
+    "Subscriber",
+    "args_kwds_to_message",
+    "connect_later",
+    "disconnect",
+    "link_latency_ns",
+]
 
 _PUB_KEYS = ("topic", "seq", "connections")
 _DELIVER_KEYS = ("topic", "publisher", "seq")
 _DROP_KEYS = ("topic", "publisher", "seq", "reason")
-
-
-class AnyMsg:
-    """Subscribe to any type and receive the serialized bytes (rospy.AnyMsg).
-
-    ``_buff`` holds the wire bytes; ``_connection_header`` has ``type``,
-    ``md5sum``, ``message_definition``, ``callerid`` and ``latching``.
-    """
-
-    _type = "*"
-    _md5sum = "*"
-    _full_text = ""
-    _has_header = False
-    __slots__ = ("_buff", "_connection_header")
-
-    def __init__(self, buff: bytes = b"", connection_header: dict[str, str] | None = None) -> None:
-        self._buff = buff
-        self._connection_header = connection_header or {}
-
-    def serialize(self, buff: Any) -> None:
-        buff.write(self._buff)
-
-    def _serialize_to_bytes(self) -> bytes:
-        return self._buff
-
-    def deserialize(self, data: bytes) -> AnyMsg:
-        self._buff = bytes(data)
-        return self
 
 
 def args_kwds_to_message(data_class: Any, args: tuple[Any, ...], kwds: dict[str, Any]) -> Any:
@@ -107,23 +92,19 @@ class LinkModel:
 
     def __init__(self, latency: Any = 0, loss: float = 0.0) -> None:
         if not callable(latency):
-            _latency_ns(latency)  # validate now
+            link_latency_ns(latency)  # validate now
         if isinstance(loss, bool) or not isinstance(loss, (int, float)) or not 0.0 <= loss <= 1.0:
             raise DdesValueError(f"loss must be a probability in [0, 1], got {loss!r}")
         self.latency = latency
         self.loss = float(loss)
 
 
-def _latency_ns(value: Any) -> int:
-    to_nsec = getattr(value, "to_nsec", None)
-    if to_nsec is not None:
-        ns = int(to_nsec())
-    elif isinstance(value, (int, float)) and not isinstance(value, bool):
-        from ddes.time.rostime import Duration
-
-        ns = Duration.from_sec(value).to_nsec()
-    else:
+def link_latency_ns(value: Any) -> int:
+    """A link latency (seconds or Duration, >= 0) as integer nanoseconds."""
+    if getattr(value, "to_nsec", None) is None and (
+            isinstance(value, bool) or not isinstance(value, (int, float))):
         raise DdesTypeError(f"latency must be seconds or a Duration, got {value!r}")
+    ns = duration_to_ns(value, "latency")
     if ns < 0:
         raise DdesValueError(f"latency must be >= 0, got {value!r}")
     return ns
@@ -178,7 +159,7 @@ class Connection:
         if callable(link.latency):
             self._fixed, self._draw = 0, link.latency
         else:
-            self._fixed, self._draw = _latency_ns(link.latency), None
+            self._fixed, self._draw = link_latency_ns(link.latency), None
         self._loss = link.loss
         if (self._draw is not None or self._loss) and self._rng is None:
             self._rng = self.world.rng_for(
@@ -189,29 +170,29 @@ class Connection:
         self._sent += 1
         world = self.world
         env = world.env
-        now: int = env._now  # type: ignore[assignment]
+        now: int = env.now
         if self._loss and self._rng is not None and self._rng.random() < self._loss:
             self.lost += 1
             world.trace.record_fast((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
                                      self.pub.resolved_name, self.pub_name, seq, "loss"))
             return
-        delay = self._fixed if self._draw is None else _latency_ns(self._draw(self._rng))
+        delay = self._fixed if self._draw is None else link_latency_ns(self._draw(self._rng))
         at = now + delay
         if at < self._last:
             at = self._last  # FIFO per connection
         self._last = at
         post(env, at - now, (data, seq), self._arrive)
 
-    def _arrive(self, ev: Any) -> None:
+    def _arrive(self, ev: Timeout) -> None:
         if self.closed:
             return
-        data, seq = ev._value
+        data, seq = ev.value
         self.received += 1
         self.sub._receive(self, data, seq)
 
 
-def _arrive_batch(ev: Any) -> None:
-    data, seq, conns = ev._value
+def _arrive_batch(ev: Timeout) -> None:
+    data, seq, conns = ev.value
     for conn in conns:
         if not conn.closed:
             conn.received += 1
@@ -232,7 +213,7 @@ class Publisher:
         headers: dict[str, str] | None = None,
         queue_size: int | None = None,
     ) -> None:
-        node._check_alive("create a publisher")
+        node.check_alive("create a publisher")
         _check_data_class(data_class, name)
         if queue_size is not None and (isinstance(queue_size, bool) or not isinstance(queue_size, int)
                                        or queue_size < 0):
@@ -262,7 +243,7 @@ class Publisher:
             self.world.record("warning", node.name, topic=self.resolved_name,
                               text="The publisher should be created with an explicit keyword "
                                    "argument 'queue_size'.")
-        node._add_entity(self)
+        node.add_entity(self)
         node._published.append(self)
         self.world.master.register_publisher(self)
         self.world.record("topic.advertise", node.name, topic=self.resolved_name, type=self.type,
@@ -288,7 +269,7 @@ class Publisher:
             self._latched = data
         env = self._env
         trace = self._trace
-        row = (env._now, "topic.publish", self._node_name, _PUB_KEYS, self.resolved_name, seq,
+        row = (env.now, "topic.publish", self._node_name, _PUB_KEYS, self.resolved_name, seq,
                self._nconn)
         if trace.enabled and not trace._listeners:
             trace._raw.append(row)
@@ -322,9 +303,9 @@ class Publisher:
             return
         self._closed = True
         for conn in list(self.connections):
-            self.world.graph_disconnect(conn)
+            disconnect(conn)
         self.world.master.unregister_publisher(self)
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)
         if self in self.node._published:
             self.node._published.remove(self)
         self.world.record("topic.unadvertise", self.node.name, topic=self.resolved_name)
@@ -348,7 +329,7 @@ class Subscriber:
         *,
         internal: bool = False,
     ) -> None:
-        node._check_alive("create a subscriber")
+        node.check_alive("create a subscriber")
         _check_data_class(data_class, name)
         if queue_size == -1:
             queue_size = None
@@ -373,10 +354,13 @@ class Subscriber:
         self._closed = False
         self._internal = internal
         self._any = data_class is AnyMsg
-        self._in_progress = False
+        #: True while a callback of this subscription runs (the node's runner sets it).
+        self.cb_active = False
+        self._cbq = node.callbacks
+        self._node_name = node.name
         self._env = node.world.env
         self._trace = node.world.trace
-        node._add_entity(self)
+        node.add_entity(self)
         node._subscribed.append(self)
         self.world.master.register_subscriber(self)
         self.world.record("topic.subscribe", node.name, topic=self.resolved_name, type=self.type)
@@ -384,32 +368,26 @@ class Subscriber:
     def _receive(self, conn: Connection, data: bytes, seq: int) -> None:
         if self._closed:
             return
-        node = self.node
         if self._any:
             msg: Any = AnyMsg(data, dict(conn.header))
         else:
             cls = self.data_class
             msg = cls.__new__(cls)._deserialize_from(data)
-        if self._internal or (not node._busy and not self._queue and not self._in_progress):
-            # Fast path: the spinner is free, run the callback now.
+        cbq = self._cbq
+        if self._internal or (cbq.free and not self._queue and not self.cb_active):
+            # The spinner is free: deliver now, through the node's runner.
             conn.delivered += 1
             trace = self._trace
-            row = (self._env._now, "topic.deliver", node.name, _DELIVER_KEYS,
+            row = (self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
                    self.resolved_name, conn.pub_name, seq)
             if trace.enabled and not trace._listeners:
                 trace._raw.append(row)
             else:
                 trace.record_fast(row)
             cb = self.callback
-            if cb is None:
-                return
-            try:
-                result = cb(msg) if self.callback_args is None else cb(msg, self.callback_args)
-            except Exception as exc:  # noqa: BLE001 - the node's error policy decides
-                node._callback_error(cb, exc)
-                return
-            if type(result) is GeneratorType:
-                node._adopt_generator(cb, result, None, self)
+            if cb is not None:
+                cbq.run(cb, (msg,) if self.callback_args is None else (msg, self.callback_args),
+                        self)
             return
         q = self._queue
         q.append((conn, msg, seq))
@@ -417,10 +395,9 @@ class Subscriber:
         if qs is not None and len(q) > qs:
             old_conn, _old, old_seq = q.popleft()
             old_conn.dropped += 1
-            self.world.trace.record_fast((self.world.env._now, "topic.drop", node.name, _DROP_KEYS,
-                                          self.resolved_name, old_conn.pub_name, old_seq,
-                                          "queue_full"))
-        node._enqueue(self._call_queued, (), owner=self)
+            self._trace.record_fast((self._env.now, "topic.drop", self._node_name, _DROP_KEYS,
+                                     self.resolved_name, old_conn.pub_name, old_seq, "queue_full"))
+        cbq.enqueue(self._call_queued, (), self)
 
     def _call_queued(self) -> Any:
         """The spinner's entry: deliver the oldest queued message (roscpp SubscriptionQueue::call)."""
@@ -428,7 +405,7 @@ class Subscriber:
             return None
         conn, msg, seq = self._queue.popleft()
         conn.delivered += 1
-        self._trace.record_fast((self._env._now, "topic.deliver", self.node.name, _DELIVER_KEYS,
+        self._trace.record_fast((self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
                                  self.resolved_name, conn.pub_name, seq))
         cb = self.callback
         if cb is None:
@@ -445,10 +422,10 @@ class Subscriber:
             return
         self._closed = True
         for conn in list(self.connections):
-            self.world.graph_disconnect(conn)
+            disconnect(conn)
         self._queue.clear()
         self.world.master.unregister_subscriber(self)
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)
         if self in self.node._subscribed:
             self.node._subscribed.remove(self)
         self.world.record("topic.unsubscribe", self.node.name, topic=self.resolved_name)
@@ -478,3 +455,37 @@ def _serialize_checked(msg: Any) -> bytes:
     except Exception as exc:  # noqa: BLE001 - anything else is a serialization failure too
         raise ROSSerializationException(f"cannot serialize {type(msg).__name__}: {exc}") from exc
 
+
+
+def connect_later(world: World, pub: Publisher, sub: Subscriber, delay_ns: int) -> None:
+    """Connect ``pub`` to ``sub`` after ``delay_ns`` (the ROS connection handshake)."""
+    def connect(_ev: Timeout) -> None:
+        if pub._closed or sub._closed:
+            return
+        conn = Connection(world, pub, sub, world.link_for(pub, sub))
+        pub.connections.append(conn)
+        sub.connections.append(conn)
+        pub._rebuild_fanout()
+        world.record("topic.connect", sub.node.name, topic=pub.resolved_name,
+                     publisher=pub.node.name, connection=conn.id)
+        if pub.latch and pub._latched is not None:
+            conn.send(pub._latched, pub.seq)
+
+    post(world.env, delay_ns, None, connect)
+
+
+def disconnect(conn: Connection) -> None:
+    """Close a connection (either end went away)."""
+    if conn.closed:
+        return
+    if conn.batchable:
+        conn._sent += conn.pub.seq - conn._seq0
+        conn.batchable = False
+    conn.closed = True
+    if conn in conn.pub.connections:
+        conn.pub.connections.remove(conn)
+        conn.pub._rebuild_fanout()
+    if conn in conn.sub.connections:
+        conn.sub.connections.remove(conn)
+    conn.world.record("topic.disconnect", conn.sub.node.name, topic=conn.pub.resolved_name,
+                      publisher=conn.pub.node.name, connection=conn.id)

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 import simpy
 
 from ddes.errors import ROSException
-from ddes.time.sleep import duration_ns
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -36,7 +36,7 @@ def wait_for_message(node: Node, topic: str, data_class: Any, timeout: Any = Non
 
     sub = Subscriber(node, topic, data_class, got, queue_size=1, internal=True)
     if timeout is not None:
-        ns = duration_ns(timeout, "timeout")
+        ns = duration_to_ns(timeout, "timeout")
         start = node.clock.now_ns()
         expiry = node.clock.wait_until(start + ns)
 

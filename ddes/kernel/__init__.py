@@ -1,6 +1,9 @@
-"""The simulation kernel: World (SimPy on integer nanoseconds), RNG and trace."""
+"""The simulation kernel: SimPy on integer nanoseconds, random streams, ids, trace.
 
+It knows nothing of ROS; :class:`ddes.graph.World` builds the graph on it.
+"""
+
+from ddes.kernel.kernel import Kernel
 from ddes.kernel.trace import Trace, TraceEvent
-from ddes.kernel.world import World, to_ns
 
-__all__ = ["Trace", "TraceEvent", "World", "to_ns"]
+__all__ = ["Kernel", "Trace", "TraceEvent"]

@@ -42,7 +42,7 @@ from ddes.graph.rosout import DEBUG, WARN
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
     from ddes.launch.plan import LaunchPlan, NodeSpec
     from ddes.rospack import RosPack
 

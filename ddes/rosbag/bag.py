@@ -46,7 +46,7 @@ from ddes.errors import (
     ROSBagException,
     ROSBagFormatException,
 )
-from ddes.graph.topics import AnyMsg
+from ddes.msg.anymsg import AnyMsg
 from ddes.rosbag.bagfile import (
     COMPRESSIONS,
     Decoded,

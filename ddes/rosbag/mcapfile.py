@@ -53,13 +53,13 @@ def encode_mcap(connections: Mapping[int, ConnectionInfo], indexes: Mapping[int,
     from mcap.exceptions import McapError
     from mcap.writer import Writer
 
-    import ddes
+    from ddes._version import __version__
 
     try:
         writer = Writer(out, chunk_size=chunk_size, compression=_compression(compression))
     except McapError as exc:
         raise ROSBagException(f"cannot write MCAP with {compression} compression: {exc}") from None
-    writer.start(profile="ros1", library=f"ddes/{ddes.__version__}")
+    writer.start(profile="ros1", library=f"ddes/{__version__}")
     schemas: dict[tuple[str, str], int] = {}
     channels: dict[int, int] = {}
     for cid, conn in connections.items():

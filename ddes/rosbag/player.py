@@ -50,7 +50,7 @@ from ddes.time.rostime import Time
 if TYPE_CHECKING:
     import simpy
 
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
 __all__ = ["Player", "raw_message_class"]
 

@@ -53,7 +53,7 @@ if TYPE_CHECKING:
     import simpy
 
     from ddes.graph.topics import AnyMsg
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
 __all__ = ["Recorder", "bag_filename", "parse_duration"]
 

@@ -20,8 +20,9 @@ Quick start::
 * :mod:`ddes.services.client`: :class:`ServiceProxy`, :class:`ServiceClient`,
   the call timeout extension;
 * :mod:`ddes.services.transport`: the hops of a call and their latency;
-* :mod:`ddes.services.network`: links (``world.set_service_link``) and
-  statistics (``world.service_stats``);
+* :mod:`ddes.services.network`: links and statistics, one
+  :class:`ServiceNetwork` per world (:func:`network_of`; the ``ddes.World``
+  facade's ``world.set_service_link`` and ``world.service_stats``);
 * :mod:`ddes.services.waiting`: :func:`wait_for_service` as an event.
 
 See docs/services.md.
@@ -30,7 +31,12 @@ See docs/services.md.
 from ddes.errors import ServiceException, ServiceTimeout
 from ddes.services.client import ServiceClient, ServiceProxy
 from ddes.services.convert import convert_return_to_response
-from ddes.services.network import DEFAULT_SERVICE_LATENCY, ServiceNetwork, ServiceStats
+from ddes.services.network import (
+    DEFAULT_SERVICE_LATENCY,
+    ServiceNetwork,
+    ServiceStats,
+    network_of,
+)
 from ddes.services.server import Service
 from ddes.services.waiting import wait_for_service
 
@@ -44,5 +50,6 @@ __all__ = [
     "ServiceStats",
     "ServiceTimeout",
     "convert_return_to_response",
+    "network_of",
     "wait_for_service",
 ]

@@ -36,12 +36,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import ROSInterruptException, ServiceException, ServiceTimeout
-from ddes.kernel.post import post
+from ddes.kernel.events import post
 from ddes.services.convert import args_kwds_to_request, check_service_class
 from ddes.services.server import check_service_name
+from ddes.services.network import network_of
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
 from ddes.services.waiting import timeout_ns, wait_for_service, wait_for_service_ns
-from ddes.time.sleep import duration_ns
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
@@ -68,7 +69,7 @@ class ServiceProxy:
 
     def __init__(self, node: Node, name: str, service_class: Any, persistent: bool = False,
                  headers: dict[str, str] | None = None, *, timeout: Any = None) -> None:
-        node._check_alive("create a service proxy")
+        node.check_alive("create a service proxy")
         check_service_name(name, "ServiceProxy")
         check_service_class(service_class, f"ServiceProxy {name!r}")
         self.node = node
@@ -89,7 +90,7 @@ class ServiceProxy:
         self._pending: dict[int, PendingCall] = {}
         self._field_timeout = "timeout" in self.request_class.__slots__
         self._stats: ServiceStats | None = None
-        node._add_entity(self)
+        node.add_entity(self)
 
     # -- calling --------------------------------------------------------------------------
     def call(self, *args: Any, timeout: Any = _UNSET, **kwds: Any) -> simpy.Event:
@@ -104,7 +105,7 @@ class ServiceProxy:
 
     def _start(self, args: tuple[Any, ...], kwds: dict[str, Any], ns: int | None) -> PendingCall:
         node = self.node
-        node._check_alive("call a service")
+        node.check_alive("call a service")
         if len(args) == 1 and not kwds and type(args[0]) is self.request_class:
             request = args[0]
         else:
@@ -114,7 +115,7 @@ class ServiceProxy:
         name = self.resolved_name
         stats = self._stats
         if stats is None:
-            stats = self._stats = world.service_network.stats_for(name)
+            stats = self._stats = network_of(world).stats_for(name)
         stats.calls += 1
         self.seq += 1
         call = PendingCall(self, data, world.env.event(), stats)
@@ -141,7 +142,7 @@ class ServiceProxy:
         if entry is None:
             call.fail("unavailable", ServiceException(f"service [{name}] unavailable"))
             return call
-        conn = ServiceConnection(self, entry.server, world.service_network.link(name, node.name))
+        conn = ServiceConnection(self, entry.server, network_of(world).link(name, node.name))
         call.conn = conn
         conn.waiting.append(call)
         if self.persistent:
@@ -290,7 +291,7 @@ class ServiceProxy:
             self._transport.close()
             self._transport = None
         self._broken = f"the node of this ServiceProxy for [{self.resolved_name}] is shut down"
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)
 
     def __repr__(self) -> str:
         kind = "persistent " if self.persistent else ""
@@ -369,7 +370,7 @@ class ServiceClient:
             result.succeed(True)
             return result
         node.loginfo("waitForService: Service [%s] has not been advertised, waiting...", name)
-        ns = None if timeout is None else duration_ns(timeout, "timeout")
+        ns = None if timeout is None else duration_to_ns(timeout, "timeout")
         if ns == 0:
             result.succeed(False)
             return result

@@ -23,13 +23,20 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesTypeError, ROSServiceException
-from ddes.graph.topics import LinkModel, _latency_ns
+from ddes.graph.topics import LinkModel, link_latency_ns
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
-__all__ = ["DEFAULT_SERVICE_LATENCY", "ERROR_KINDS", "ServiceLink", "ServiceNetwork", "ServiceStats"]
+__all__ = [
+    "DEFAULT_SERVICE_LATENCY",
+    "ERROR_KINDS",
+    "ServiceLink",
+    "ServiceNetwork",
+    "ServiceStats",
+    "network_of",
+]
 
 #: One-way latency of every service message unless a link rule says otherwise (seconds).
 DEFAULT_SERVICE_LATENCY = 0.0001
@@ -49,14 +56,14 @@ class ServiceLink:
         if callable(latency):
             self._fixed, self._draw = 0, latency
         else:
-            self._fixed, self._draw = _latency_ns(latency), None
+            self._fixed, self._draw = link_latency_ns(latency), None
         self._rng = rng
 
     def sample(self) -> int:
         """Latency of the next one-way message (integer ns)."""
         if self._draw is None:
             return self._fixed
-        return _latency_ns(self._draw(self._rng))
+        return link_latency_ns(self._draw(self._rng))
 
 
 @dataclass
@@ -96,6 +103,11 @@ class ServiceStats:
             "latency_max": self.latency_max,
             "latency_mean": self.latency_total / self.succeeded if self.succeeded else None,
         }
+
+
+def network_of(world: World) -> ServiceNetwork:
+    """The :class:`ServiceNetwork` of ``world`` (kept in its ``"services"`` extension slot)."""
+    return world.extension("services", ServiceNetwork)
 
 
 class ServiceNetwork:

@@ -44,6 +44,7 @@ from ddes.services.convert import (
     roscpp_result,
     server_error_text,
 )
+from ddes.services.network import network_of
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
 
 if TYPE_CHECKING:
@@ -85,7 +86,7 @@ class Service:
         *,
         style: str = "rospy",
     ) -> None:
-        node._check_alive("advertise a service")
+        node.check_alive("advertise a service")
         check_service_name(name, "Service")
         check_service_class(service_class, f"service {name!r}")
         if not callable(handler):
@@ -115,12 +116,12 @@ class Service:
                 f"service [{self.resolved_name}] already registered{by}; shut the other server "
                 "down first or choose another name"
             )
-        net = self.world.service_network
+        net = network_of(self.world)
         #: The node's invented ROSRPC URI (``rosservice uri``).
         self.uri = net.uri_for(node)
         self._stats = net.stats_for(self.resolved_name)
         master.register_service(self.resolved_name, self.type, self.md5sum, node, self)
-        node._add_entity(self)
+        node.add_entity(self)
         self.world.record("service.advertise", node.name, service=self.resolved_name,
                           type=self.type, style=style, uri=self.uri)
         net.notify_registered(self.resolved_name)
@@ -132,7 +133,7 @@ class Service:
             return
         self._closed = True
         self.world.master.unregister_service(self.resolved_name, self)
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)
         self.world.record("service.unadvertise", self.node.name, service=self.resolved_name,
                           reason=reason)
         conns = list(self._conns.values())
@@ -175,7 +176,7 @@ class Service:
                                  self.resolved_name, call.id, conn.proxy.node.name))
         cls = self.request_class
         request = cls.__new__(cls)._deserialize_from(call.data)
-        self.node._invoke(self._serve, (conn, call, request), None, conn)
+        self.node.callbacks.invoke(self._serve, (conn, call, request), conn)
 
     def _serve(self, conn: ServiceConnection, call: PendingCall, request: Message) -> Any:
         self._stats.served += 1

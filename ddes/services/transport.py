@@ -59,7 +59,7 @@ class ServiceConnection:
     """A client's TCPROS connection to one server (one call, or many if persistent)."""
 
     __slots__ = ("id", "proxy", "server", "link", "persistent", "ready", "waiting", "server_gone",
-                 "closed", "last_request", "last_response", "_in_progress")
+                 "closed", "last_request", "last_response", "cb_active")
 
     def __init__(self, proxy: ServiceProxy, server: Service, link: ServiceLink) -> None:
         self.id = proxy.world.next_id("service_connection")
@@ -79,7 +79,7 @@ class ServiceConnection:
         self.last_request = 0
         self.last_response = 0
         #: A request of this connection is being served (one at a time per connection).
-        self._in_progress = False
+        self.cb_active = False
 
     def close(self) -> None:
         """Close from the client side (the server forgets it)."""

@@ -12,8 +12,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesValueError, ROSException, ROSInterruptException
+from ddes.services.network import network_of
 from ddes.services.server import check_service_name
-from ddes.time.sleep import duration_ns
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
@@ -27,7 +28,7 @@ def timeout_ns(timeout: Any, what: str = "timeout") -> int | None:
     """A timeout (seconds or Duration) as ns; None stays None; 0 raises ValueError (rospy)."""
     if timeout is None:
         return None
-    ns = duration_ns(timeout, what)
+    ns = duration_to_ns(timeout, what)
     if ns == 0:
         raise DdesValueError("timeout must be non-zero")
     return ns
@@ -45,7 +46,7 @@ class _Waiter:
 
     def registered(self) -> None:
         if not self.event.triggered:
-            self.node._remove_entity(self)
+            self.node.remove_entity(self)
             self.event.succeed(None)
 
     def expire(self, _ev: Any = None) -> None:
@@ -59,8 +60,8 @@ class _Waiter:
             self.event.fail(ROSInterruptException("rospy shutdown"))
 
     def _stop(self) -> None:
-        self.node._remove_entity(self)
-        self.node.world.service_network.remove_waiter(self.name, self.registered)
+        self.node.remove_entity(self)
+        network_of(self.node.world).remove_waiter(self.name, self.registered)
 
 
 def wait_for_service(node: Node, service: str, timeout: Any = None) -> simpy.Event:
@@ -75,7 +76,7 @@ def wait_for_service(node: Node, service: str, timeout: Any = None) -> simpy.Eve
     """
     check_service_name(service, "wait_for_service")
     ns = timeout_ns(timeout)
-    node._check_alive("wait for a service")
+    node.check_alive("wait for a service")
     return wait_for_service_ns(node, node.resolve_name(service), ns)
 
 
@@ -90,8 +91,8 @@ def wait_for_service_ns(node: Node, name: str, ns: int | None) -> simpy.Event:
     if world.master.lookup_service(name) is not None:
         event.succeed(None)
         return event
-    node._add_entity(waiter)
-    world.service_network.add_waiter(name, waiter.registered)
+    node.add_entity(waiter)
+    network_of(world).add_waiter(name, waiter.registered)
     if ns is not None:
         clock = node.clock
         clock.wait_until(clock.now_ns() + ns).callbacks.append(waiter.expire)

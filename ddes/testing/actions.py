@@ -74,7 +74,7 @@ from ddes.actionlib.states import (
     GoalStatus,
 )
 from ddes.errors import DdesTypeError, DdesValueError
-from ddes.kernel.world import World
+from ddes.graph.world import World
 from ddes.msg import dict_to_message, get_message_class, message_to_dict
 from ddes.testing.strategies import messages
 

@@ -1,4 +1,7 @@
-"""ROS time: Time, Duration, clocks, Rate, Timer and sleep, all on simulated time."""
+"""ROS time: Time, Duration, the unit rule, clocks, Rate and sleep, all on simulated time.
+
+Timers live with the nodes that own them (:mod:`ddes.graph.timer`).
+"""
 
 from ddes.time.clock import Clock, KernelClock, SimClock
 from ddes.time.rate import Rate, RoscppRate, WallRate
@@ -17,7 +20,7 @@ from ddes.time.rostime import (
     WallTime,
 )
 from ddes.time.sleep import duration_sleep, sleep
-from ddes.time.timer import Timer, TimerEvent
+from ddes.time.units import DurationLike, TimeLike, duration_to_ns, ns_to_sec, time_to_ns, to_ns
 
 __all__ = [
     "DAY",
@@ -29,17 +32,21 @@ __all__ = [
     "SECOND",
     "Clock",
     "Duration",
+    "DurationLike",
     "KernelClock",
     "Rate",
     "RoscppRate",
     "SimClock",
     "TVal",
     "Time",
-    "Timer",
-    "TimerEvent",
+    "TimeLike",
     "WallDuration",
     "WallRate",
     "WallTime",
     "duration_sleep",
+    "duration_to_ns",
+    "ns_to_sec",
     "sleep",
+    "time_to_ns",
+    "to_ns",
 ]

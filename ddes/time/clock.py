@@ -25,8 +25,6 @@ from ddes.time.rostime import Time, WallTime
 if TYPE_CHECKING:
     import simpy
 
-    from ddes.kernel.world import World
-
 __all__ = ["Clock", "KernelClock", "SimClock"]
 
 
@@ -35,9 +33,9 @@ class Clock:
 
     is_sim: bool = False
 
-    def __init__(self, world: World) -> None:
-        self.world = world
-        self.env = world.env
+    def __init__(self, env: simpy.Environment) -> None:
+        #: The SimPy environment whose ``now`` is integer nanoseconds.
+        self.env = env
 
     def now_ns(self) -> int:
         """Current time of this clock, integer nanoseconds."""
@@ -80,7 +78,7 @@ class KernelClock(Clock):
     is_sim = False
 
     def now_ns(self) -> int:
-        return self.env.now
+        return self.env.now  # type: ignore[no-any-return]
 
     def get_walltime(self) -> WallTime:
         """Kernel time as a WallTime."""
@@ -99,8 +97,8 @@ class SimClock(Clock):
 
     is_sim = True
 
-    def __init__(self, world: World) -> None:
-        super().__init__(world)
+    def __init__(self, env: simpy.Environment) -> None:
+        super().__init__(env)
         self._now = 0
         self._seq = 0
         # (target_ns, seq, start_ns or -1, event)

@@ -16,20 +16,11 @@ from typing import Any
 
 import simpy
 
-from ddes.errors import DdesTypeError, ROSTimeMovedBackwardsException
+from ddes.errors import ROSTimeMovedBackwardsException
 from ddes.time.clock import Clock
-from ddes.time.rostime import Duration, TVal, WallDuration
+from ddes.time.units import duration_to_ns
 
-__all__ = ["duration_ns", "duration_sleep", "sleep", "sleep_ns"]
-
-
-def duration_ns(d: Any, what: str = "duration") -> int:
-    """A Duration, WallDuration or float seconds as integer nanoseconds."""
-    if isinstance(d, (Duration, WallDuration)):
-        return d.to_nsec()
-    if isinstance(d, TVal):
-        raise DdesTypeError(f"{what} must be a Duration or seconds, got the point in time {d!r}")
-    return Duration.from_sec(d).to_nsec()
+__all__ = ["duration_sleep", "sleep", "sleep_ns"]
 
 
 def _sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
@@ -54,7 +45,7 @@ def sleep_ns(clock: Clock, d_ns: int) -> simpy.Event:
 def sleep(clock: Any, duration: Any) -> simpy.Event:
     """rospy.sleep: ``yield sleep(node, 0.5)`` or ``yield node.sleep(0.5)``."""
     clock = getattr(clock, "clock", clock)
-    return sleep_ns(clock, duration_ns(duration))
+    return sleep_ns(clock, duration_to_ns(duration))
 
 
 def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
@@ -72,7 +63,7 @@ def duration_sleep(clock: Any, duration: Any) -> simpy.Event:
     was needed at all, as roscpp reports.
     """
     clock = getattr(clock, "clock", clock)
-    d_ns = duration_ns(duration)
+    d_ns = duration_to_ns(duration)
     if not clock.is_sim:
         return clock.env.timeout(d_ns if d_ns > 0 else 0, True)
     return clock.env.process(_cpp_sim_sleep(clock, d_ns))

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import ddes
 from ddes.actionlib import GoalStatus
-from ddes.cli.tooling import run_command
+from ddes.console.tooling import run_command
 from ddes.msg import get_message_class
 from ddes.nodes import start_node
 from ddes.testing.actions import run_protocol_machine

@@ -9,7 +9,7 @@ import pytest
 
 import ddes
 from ddes.actionlib import ActionServer, SimpleActionClient
-from ddes.cli.tooling import run_command
+from ddes.console.tooling import run_command
 from ddes.msg import get_message_class
 from ddes.rosbag import Recorder
 

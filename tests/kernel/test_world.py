@@ -112,7 +112,7 @@ def test_trace_records_and_digests(world: ddes.World) -> None:
 
 
 def test_post_orders_exactly_like_timeout(world: ddes.World) -> None:
-    from ddes.kernel.post import post
+    from ddes.kernel.events import post
 
     order: list[str] = []
     env = world.env

@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 
 from ddes import Time, World
-from ddes.cli.console import Console
+from ddes.console.shell import Console
 from ddes.cli.main import main
-from ddes.cli.tooling import ToolContext, run_command, run_command_result
+from ddes.console.tooling import ToolContext, run_command, run_command_result
 from ddes.errors import ROSConsoleError
 from ddes.rosbag import Bag
 

@@ -21,8 +21,8 @@ from typing import Any
 import pytest
 
 from ddes import Time
-from ddes.cli.tooling import ToolContext, run_command_result
-from ddes.kernel.world import World
+from ddes.console.tooling import ToolContext, run_command_result
+from ddes.graph.world import World
 from ddes.msg import get_message_class, message_class_from_definition
 from ddes.rosbag import Bag
 

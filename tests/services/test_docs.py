@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from ddes.cli.console import Console
+from ddes.console.shell import Console
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "services.md"
 TEXT = DOC.read_text()

@@ -7,7 +7,7 @@ from typing import Any
 import pytest
 
 import ddes
-from ddes.cli.tooling import CommandResult, ToolContext, run_command, run_command_result
+from ddes.console.tooling import CommandResult, ToolContext, run_command, run_command_result
 from ddes.errors import ROSConsoleError
 from ddes.nodes import start_node
 from ddes.services import Service

@@ -13,6 +13,7 @@ from typing import Any
 
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
+from ddes.services import Service
 
 
 def talker(node: Any) -> Generator[Any, Any, None]:
@@ -50,8 +51,8 @@ def add_two_ints_server(node: Any) -> None:
         node.loginfo("sending back response: [%ld]", res.sum)
         return True
 
-    node.advertise_service("add_two_ints", get_service_class("roscpp_tutorials/TwoInts"), add,
-                           style="roscpp")
+    Service(node, "add_two_ints", get_service_class("roscpp_tutorials/TwoInts"), add,
+            style="roscpp")
 
 
 def _atoll(text: str) -> int:

@@ -12,6 +12,7 @@ from typing import Any
 
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
+from ddes.services import Service
 
 
 def talker(node: Any) -> Generator[Any, Any, None]:
@@ -50,7 +51,7 @@ def add_two_ints_server(node: Any) -> None:
         node.loginfo("Returning [%s + %s = %s]", req.a, req.b, (req.a + req.b))
         return add_two_ints._response_class(req.a + req.b)
 
-    node.advertise_service("add_two_ints", add_two_ints, handle)
+    Service(node, "add_two_ints", add_two_ints, handle)
 
 
 def _add_two_ints(node: Any, x: int, y: int) -> Generator[Any, Any, Any]:

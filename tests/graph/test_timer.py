@@ -9,7 +9,7 @@ import pytest
 
 import ddes
 from ddes.errors import DdesError
-from ddes.time import TimerEvent
+from ddes.graph.timer import TimerEvent
 
 MS = 1_000_000
 

@@ -19,12 +19,12 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from ddes.cli.toolkit import HelpPrinted, ToolParser, script_resolve_name
+from ddes.console.toolkit import HelpPrinted, ToolParser, script_resolve_name
 from ddes.errors import DdesError, ROSConsoleError, ROSParamException
 from ddes.graph.names import GLOBALNS, make_global_ns, ns_join
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import ToolContext
+    from ddes.console.tooling import ToolContext
     from ddes.graph.params import ParamServer
 
 __all__ = ["TOOLS", "dump_text", "get_text", "pretty_text", "rosparam"]

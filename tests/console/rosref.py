@@ -10,8 +10,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from ddes.cli.toolkit import node_uri
-from ddes.kernel.world import World
+from ddes.console.toolkit import node_uri
+from ddes.graph.world import World
 
 FAKE_MASTER = r'''
 import contextlib, io, json, sys

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from ddes.cli.console import Console
+from ddes.console.shell import Console
 
 
 def test_rospy_talker_and_listener_log_as_rospy(console: Console) -> None:

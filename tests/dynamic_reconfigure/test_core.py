@@ -17,7 +17,7 @@ from ddes.errors import (
     DdesValueError,
     DynamicReconfigureCallbackException,
 )
-from ddes.graph.dynamic_reconfigure import (
+from ddes.dynamic_reconfigure.core import (
     ALL_LEVELS,
     Config,
     ConfigType,

@@ -47,7 +47,7 @@ from ddes.time.rostime import Time
 if TYPE_CHECKING:
     import simpy
 
-    from ddes.cli.tooling import ToolContext
+    from ddes.console.tooling import ToolContext
     from ddes.graph.master import ServiceEntry
 
 __all__ = ["TOOLS", "WAIT_LIMIT", "rosservice", "rossrv"]
@@ -311,7 +311,7 @@ def _cmd_call(ctx: ToolContext, argv: list[str]) -> int:
         except ServiceException as exc:
             raise _ServiceError(str(exc)) from None
         except ROSSerializationException as exc:
-            from ddes.cli.rosmsg import get_srv_text
+            from ddes.console.rosmsg import get_srv_text
             from ddes.msg.registry import MessageRegistry
 
             raise _ServiceError(
@@ -356,7 +356,7 @@ def rosservice(ctx: ToolContext, argv: list[str]) -> int:
 
 def rossrv(ctx: ToolContext, argv: list[str]) -> int:
     """``rossrv show|info|md5|list|package|packages`` (the one-shot tool, in the console)."""
-    from ddes.cli.rosmsg import register
+    from ddes.console.rosmsg import register
 
     parser = argparse.ArgumentParser(prog="ddes", add_help=False)
     register(parser.add_subparsers(dest="tool"))

@@ -7,8 +7,8 @@ from typing import Any
 
 import pytest
 
-from ddes.cli.console import Console
-from ddes.cli.toolkit import node_pid, node_uri
+from ddes.console.shell import Console
+from ddes.console.toolkit import node_pid, node_uri
 
 from .rosref import run_with_master
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from ddes.cli.toolkit import (
+from ddes.console.toolkit import (
     HelpPrinted,
     Task,
     ToolParser,
@@ -43,8 +43,8 @@ from ddes.graph.rosout import DEBUG, WARN
 from ddes.launch.runtime import LaunchRunner, LogRouter
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import Job, ToolContext
-    from ddes.kernel.world import World
+    from ddes.console.tooling import Job, ToolContext
+    from ddes.graph.world import World
 
 __all__ = ["TOOLS", "format_job", "jobs", "kill", "log_router", "roslaunch", "rosrun", "sleep",
            "time"]

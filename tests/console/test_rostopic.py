@@ -7,9 +7,9 @@ from typing import Any
 
 import pytest
 
-from ddes.cli.console import Console
-from ddes.cli.rostopic_live import TopicHz, format_hz, strify_for_echo, value_transform_factory
-from ddes.cli.toolkit import node_uri
+from ddes.console.shell import Console
+from ddes.console.rostopic_live import TopicHz, format_hz, strify_for_echo, value_transform_factory
+from ddes.console.toolkit import node_uri
 from ddes.msg import get_message_class, serialize_message
 
 from .rosref import run_with_master

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from ddes.cli.console import Console
+from ddes.console.shell import Console
 
 
 @pytest.fixture

@@ -36,7 +36,7 @@ from ddes.errors import DdesError, ROSConsoleError
 if TYPE_CHECKING:
     import simpy
 
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
     from ddes.rospack import RosPack
 
 __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", "run_command",
@@ -44,12 +44,12 @@ __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", 
 
 #: Modules defining world-bound tools (``TOOLS = {"name": fn}``); one line per module.
 TOOL_MODULES: tuple[str, ...] = (
-    "ddes.cli.rosbag",
-    "ddes.cli.rosnode",
-    "ddes.cli.rosparam",
-    "ddes.cli.rosrun",
-    "ddes.cli.rosservice",
-    "ddes.cli.rostopic",
+    "ddes.console.rosbag",
+    "ddes.console.rosnode",
+    "ddes.console.rosparam",
+    "ddes.console.rosrun",
+    "ddes.console.rosservice",
+    "ddes.console.rostopic",
 )
 
 Tool = Callable[["ToolContext", list[str]], int]

@@ -11,22 +11,24 @@ callback, ``next += period`` if it was due, and if ``next + period < now``
 (the callback was slow or time jumped forward) ``next = now``, skipping the
 missed fires.  A backwards jump of a simulated clock restarts the timer at
 ``now + period`` (roscpp, and rospy since ros_comm#2257), so timers survive
-``rosbag play --loop --clock``.  Callbacks run through the node (see
-:meth:`ddes.graph.node.Node._invoke`).
+``rosbag play --loop --clock``.  Callbacks run through the node's callback
+runner (:mod:`ddes.graph.callbacks`), like every other callback: on a
+single-threaded node a generator timer callback holds the spinner.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesValueError
-from ddes.kernel.post import post
+from ddes.kernel.events import post
 from ddes.time.rostime import Duration, Time
-from ddes.time.sleep import duration_ns
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
+    from simpy import Timeout
+
     from ddes.graph.node import Node
 
 __all__ = ["Timer", "TimerEvent"]
@@ -114,13 +116,16 @@ class Timer:
         oneshot: bool = False,
         reset: bool = False,
     ) -> None:
-        period_ns = duration_ns(period, "timer period")
+        period_ns = duration_to_ns(period, "timer period")
         if period_ns <= 0:
             raise DdesValueError(f"timer period must be > 0, got {period!r}")
         if not callable(callback):
             raise DdesValueError(f"timer callback must be callable, got {callback!r}")
-        node._check_alive("create a timer")
+        node.check_alive("create a timer")
         self._node = node
+        self._cbq = node.callbacks
+        #: True while the callback runs (the node's runner sets it).
+        self.cb_active = False
         self._clock = node.clock
         self._env = node.world.env
         self._period = period_ns
@@ -140,7 +145,7 @@ class Timer:
         self._source = node.name
         #: Number of times the callback was started.
         self.fires = 0
-        node._add_entity(self)
+        node.add_entity(self)
         self._clock.add_jump_listener(self._on_jump)
         if self._clock.is_valid():
             self._start(self._clock.now_ns())
@@ -161,31 +166,33 @@ class Timer:
     def _arm(self) -> None:
         self._gen += 1
         gen = self._gen
-        ev: Any
         if self._kernel:
             delay = self._next - self._env.now
             post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
         else:
             ev = self._clock.wait_until(self._next)
-            ev.callbacks.append(lambda _e: self._fire_gen(gen))
+            ev.callbacks.append(lambda _e: self._fire_gen(gen))  # type: ignore[union-attr]
 
     def _on_jump(self, old_ns: int, new_ns: int) -> None:
         if self._alive and new_ns < old_ns:
             self._next = new_ns + self._period
             self._arm()
 
-    def _fire(self, ev: Any) -> None:
-        """Kernel-clock wake-up; the common case runs inline for speed."""
-        node = self._node
-        if ev._value != self._gen or not self._alive:
+    def _fire(self, ev: Timeout) -> None:
+        """Kernel-clock wake-up."""
+        self._fire_gen(ev.value)
+
+    def _fire_gen(self, gen: int) -> None:
+        if gen != self._gen or not self._alive:
             return
-        if self._oneshot or node._busy:
-            self._fire_gen(ev._value)
-            return
-        # Fast path: same steps as _fire_gen -> _run -> _done, without the calls.
-        self._gen += 1
-        now: int = self._env._now  # type: ignore[assignment]
+        self._gen += 1  # nothing else may fire until this callback finished
+        self._cbq.invoke(self._run, (), self, self._done)
+
+    def _run(self) -> Any:
+        """The callback's turn: build the TimerEvent, record, call (through the node's runner)."""
+        now = self._clock.now_ns()
         nxt = self._next
+        self._started = now
         event = TimerEvent.__new__(TimerEvent)
         event._le = self._last_expected_ns
         event._lr = self._last_real_ns
@@ -193,50 +200,7 @@ class Timer:
         event._cr = now
         event.last_duration = self._last_duration
         self.fires += 1
-        self._started = now
-        trace = self._trace
-        if trace.enabled and not trace._listeners:
-            trace._raw.append((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
-        else:
-            trace.record_fast((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
-        try:
-            result = self._callback(event)
-        except Exception as exc:  # noqa: BLE001 - same policy as Node._invoke
-            node._callback_error(self._callback, exc)
-            result = None
-        if type(result) is GeneratorType:
-            proc = self._env.process(node._run_generator(self._callback, result))
-            proc.callbacks.append(lambda _p: self._done())
-            return
-        self._last_duration = 0.0
-        self._last_real_ns = now
-        if nxt <= now:
-            self._last_expected_ns = nxt
-            nxt += self._period
-            if nxt + self._period < now:
-                nxt = now
-            self._next = nxt
-        if not self._alive:  # the callback shut the timer down
-            return
-        gen = self._gen + 1
-        self._gen = gen
-        delay = nxt - now
-        post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
-
-    def _fire_gen(self, gen: int) -> None:
-        if gen != self._gen or not self._alive:
-            return
-        self._gen += 1  # nothing else may fire until this callback finished
-        self._node._invoke(self._run, (), self._done)
-
-    def _run(self) -> Any:
-        now = self._clock.now_ns()
-        self._started = now
-        event = TimerEvent(self._last_expected_ns, self._last_real_ns, self._next, now,
-                           self._last_duration)
-        self.fires += 1
-        self._trace.record_fast((self._env.now, "timer.fire", self._source, _FIRE_KEYS,
-                                 self._next, now))
+        self._trace.record_fast((self._env.now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
         return self._callback(event)
 
     def _done(self) -> None:
@@ -249,12 +213,19 @@ class Timer:
             return
         if not self._alive:
             return
-        if self._next <= now:
-            self._last_expected_ns = self._next
-            self._next += self._period
-        if self._next + self._period < now:
-            self._next = now
-        self._arm()
+        nxt = self._next
+        if nxt <= now:
+            self._last_expected_ns = nxt
+            nxt += self._period
+        if nxt + self._period < now:
+            nxt = now
+        self._next = nxt
+        if self._kernel:
+            self._gen += 1
+            delay = nxt - self._env.now
+            post(self._env, delay if delay > 0 else 0, self._gen, self._fire_cb)
+        else:
+            self._arm()
 
     def shutdown(self) -> None:
         """Stop the timer; a callback already running finishes."""
@@ -262,7 +233,7 @@ class Timer:
             self._alive = False
             self._gen += 1
             self._clock.remove_jump_listener(self._on_jump)
-            self._node._remove_entity(self)
+            self._node.remove_entity(self)
 
     def is_alive(self) -> bool:
         """True until :meth:`shutdown` (or the one fire of a one-shot timer)."""

@@ -20,7 +20,7 @@ Output follows ros_comm ``tools/rostopic/src/rostopic/__init__.py``:
 
 Commands that ROS runs until Ctrl+C take ``-n COUNT`` (messages for echo
 and ``pub -r``, reports for hz) or ``--duration S`` (simulated seconds), or
-run in the background of the world (``&``); see :mod:`ddes.cli.toolkit`.
+run in the background of the world (``&``); see :mod:`ddes.console.toolkit`.
 A topic nobody publishes or subscribes is an error for a foreground
 ``echo``/``hz`` without ``--duration`` (ROS would wait for ever); with one,
 the ROS warning prints and the tool waits, as ROS does.  ``bw``, ``delay``,
@@ -32,7 +32,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from ddes.cli.toolkit import (
+from ddes.console.toolkit import (
     HelpPrinted,
     ToolParser,
     node_uri,
@@ -42,8 +42,8 @@ from ddes.errors import DdesError, ROSConsoleError, ROSTopicException
 from ddes.graph.names import make_global_ns
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import ToolContext
-    from ddes.kernel.world import World
+    from ddes.console.tooling import ToolContext
+    from ddes.graph.world import World
 
 __all__ = ["TOOLS", "get_info_text", "get_topic_type", "msgevalgen", "rostopic"]
 
@@ -340,7 +340,7 @@ def _unsupported(name: str) -> Callable[[ToolContext, list[str]], int]:
 
 def _live(name: str) -> Callable[[ToolContext, list[str]], int]:
     def tool(ctx: ToolContext, argv: list[str]) -> int:
-        from ddes.cli import rostopic_live
+        from ddes.console import rostopic_live
 
         fn: Callable[[ToolContext, list[str]], int] = getattr(rostopic_live, name)
         return fn(ctx, argv)

@@ -2,7 +2,7 @@
 
 The pure rules (defaults overridden by parameters, clamping, the level
 bitmask, the start-up call with all levels set, the None-return error) live
-in :mod:`ddes.graph.dynamic_reconfigure`; this module wires them to ROS as
+in :mod:`ddes.dynamic_reconfigure.core`; this module wires them to ROS as
 ``dynamic_reconfigure/server.py`` does, under the namespace (``~`` by
 default):
 
@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
-from ddes.graph.dynamic_reconfigure import (
+from ddes.dynamic_reconfigure.core import (
     Config,
     ConfigType,
     ReconfigureCallback,
@@ -29,6 +29,7 @@ from ddes.graph.dynamic_reconfigure import (
     encode_description,
     reconfigure_namespace,
 )
+from ddes.services.server import Service
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -81,7 +82,7 @@ class DynamicReconfigureServer:
                  namespace: str = "~") -> None:
         from ddes.msg import get_message_class, get_service_class
 
-        node._check_alive("create a dynamic_reconfigure server")
+        node.check_alive("create a dynamic_reconfigure server")
         self.node = node
         self.ns = node.resolve_name(reconfigure_namespace(namespace)).rstrip("/") + "/"
         self.type = config_type
@@ -101,10 +102,10 @@ class DynamicReconfigureServer:
                                                            caller_id=node.name),
             on_update=self._published,
         )
-        self._service = node.advertise_service(
-            self.ns + "set_parameters", get_service_class("dynamic_reconfigure/Reconfigure"),
+        self._service = Service(
+            node, self.ns + "set_parameters", get_service_class("dynamic_reconfigure/Reconfigure"),
             self._handle)
-        node._add_entity(self)
+        node.add_entity(self)
 
     @property
     def config(self) -> Config:
@@ -129,5 +130,5 @@ class DynamicReconfigureServer:
         self._service.shutdown()
         self._descr_pub.unregister()
         self._update_pub.unregister()
-        self.node._remove_entity(self)
+        self.node.remove_entity(self)
 

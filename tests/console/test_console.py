@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from ddes.cli.console import Console, run_script
+from ddes.console.shell import Console, run_script
 from ddes.cli.main import main
 from ddes.errors import ROSConsoleError
 
@@ -191,7 +191,7 @@ def test_completion(console: Console) -> None:
 
 
 def test_world_can_be_passed_in_and_log_lines_go_to_out() -> None:
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
     world = World(seed=4)
     lines: list[str] = []

@@ -1,9 +1,9 @@
 """The ``rostopic`` sub-commands that let time pass: ``echo``, ``hz`` and ``pub``.
 
-See :mod:`ddes.cli.rostopic` for the formats; this module holds their
+See :mod:`ddes.console.rostopic` for the formats; this module holds their
 machinery: rostopic's ``--nostr``/``--noarr`` value transform,
 ``ROSTopicHz`` statistics, and the publishing loops.  Each runs as a
-:class:`~ddes.cli.toolkit.Task` owning an anonymous ``/rostopic_N`` node
+:class:`~ddes.console.toolkit.Task` owning an anonymous ``/rostopic_N`` node
 (as rostopic's ``init_node('rostopic', anonymous=True)``).
 """
 
@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from ddes.cli.rostopic import _field_class, _topic_class, get_topic_type
-from ddes.cli.toolkit import (
+from ddes.console.rostopic import _field_class, _topic_class, get_topic_type
+from ddes.console.toolkit import (
     Task,
     ToolParser,
     add_run_options,
@@ -30,8 +30,8 @@ from ddes.cli.toolkit import (
 from ddes.errors import DdesError, ROSConsoleError, ROSTopicException
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import ToolContext
-    from ddes.kernel.world import World
+    from ddes.console.tooling import ToolContext
+    from ddes.graph.world import World
 
 __all__ = ["TopicHz", "echo", "format_hz", "hz", "pub", "strify_for_echo",
            "value_transform_factory"]

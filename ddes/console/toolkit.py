@@ -28,9 +28,9 @@ from ddes.graph.names import resolve_name
 from ddes.launch.runtime import node_pid, node_uri
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import Job, ToolContext
+    from ddes.console.tooling import Job, ToolContext
     from ddes.graph.node import Node
-    from ddes.kernel.world import World
+    from ddes.graph.world import World
 
 __all__ = [
     "DEFAULT_WAIT_LIMIT",

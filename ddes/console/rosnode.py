@@ -23,7 +23,7 @@ from __future__ import annotations
 from collections.abc import Generator
 from typing import TYPE_CHECKING, Any
 
-from ddes.cli.toolkit import (
+from ddes.console.toolkit import (
     HelpPrinted,
     Task,
     ToolParser,
@@ -40,8 +40,8 @@ from ddes.errors import ROSConsoleError
 from ddes.graph.names import make_global_ns
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import ToolContext
-    from ddes.kernel.world import World
+    from ddes.console.tooling import ToolContext
+    from ddes.graph.world import World
 
 __all__ = ["TOOLS", "get_node_info_description", "get_node_names", "rosnode"]
 

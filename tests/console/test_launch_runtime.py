@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from ddes.cli.console import Console
-from ddes.cli.toolkit import node_pid
-from ddes.kernel.world import World
+from ddes.console.shell import Console
+from ddes.console.toolkit import node_pid
+from ddes.graph.world import World
 from ddes.launch import load_launch
 from ddes.launch.runtime import LaunchRunner, start_core
 from ddes.rospack import RosPack

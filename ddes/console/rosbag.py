@@ -40,7 +40,7 @@ from ddes.errors import (
 )
 
 if TYPE_CHECKING:
-    from ddes.cli.tooling import ToolContext
+    from ddes.console.tooling import ToolContext
 
 __all__ = ["TOOLS", "register", "rosbag_main", "run"]
 
@@ -230,7 +230,7 @@ def _bag_op(io: _IO, cmd: str, argv: list[str]) -> int:
 def _need_world(io: _IO, cmd: str) -> ToolContext | None:
     if io.ctx is None:
         io.err(f"ERROR: rosbag {cmd} needs a running world: use it in the ddes console, or "
-               f"ddes.cli.tooling.run_command(world, 'rosbag {cmd} ...')")
+               f"ddes.console.tooling.run_command(world, 'rosbag {cmd} ...')")
     return io.ctx
 
 
@@ -240,7 +240,7 @@ def _refuse(io: _IO, what: list[str]) -> int:
 
 
 def _record(io: _IO, argv: list[str]) -> int:
-    from ddes.cli.toolkit import run_task, take_background
+    from ddes.console.toolkit import run_task, take_background
     from ddes.rosbag import Recorder
 
     argv, background = take_background(argv)
@@ -308,7 +308,7 @@ def _record(io: _IO, argv: list[str]) -> int:
 def _task(ctx: ToolContext, cmd: str, argv: list[str], done: Any, stop: Callable[[], Any],
           io: _IO) -> Any:
     """A console Task following a recorder or player: stopping it stops them."""
-    from ddes.cli.toolkit import Task, command_label
+    from ddes.console.toolkit import Task, command_label
 
     task = Task(ctx.world, command_label("rosbag", [cmd, *argv]))
     task.on_stop(stop)
@@ -324,7 +324,7 @@ def _task(ctx: ToolContext, cmd: str, argv: list[str], done: Any, stop: Callable
 
 
 def _play(io: _IO, argv: list[str]) -> int:
-    from ddes.cli.toolkit import run_task, take_background
+    from ddes.console.toolkit import run_task, take_background
     from ddes.rosbag import Player
 
     argv, background = take_background(argv)

@@ -1,0 +1,173 @@
+"""The ROS world: the kernel plus the graph — master, parameters, nodes, links.
+
+A :class:`World` is one simulation.  It owns the :class:`~ddes.kernel.Kernel`
+parts (integer-nanosecond SimPy environment, seeded random streams, trace)
+and the ROS graph on top: the master with its parameter server, the nodes,
+and the transport model of topic connections.  Services, actionlib, bags and
+TF keep their per-world state in the kernel's extension slots; the
+``ddes.World`` facade adds their conveniences (``world.set_service_link``...).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from ddes.errors import ROSTopicException
+from ddes.graph.master import Master
+from ddes.graph.params import ParamServer
+from ddes.graph.topics import Connection, LinkModel, Publisher, Subscriber, connect_later
+from ddes.kernel.kernel import Kernel
+from ddes.time.units import DurationLike
+
+if TYPE_CHECKING:
+    from ddes.graph.node import Node
+
+__all__ = ["World"]
+
+LinkLatency = DurationLike | Callable[[Any], DurationLike]
+
+
+class World(Kernel):
+    """A deterministic ROS world on a SimPy kernel.
+
+    Parameters
+    ----------
+    seed:
+        Seeds :attr:`rng` and every stream from :meth:`rng_for`.  Same
+        scenario + same seed = same trace.
+    """
+
+    #: The class :meth:`create_node` makes (the ``ddes.World`` facade makes ``ddes.Node``).
+    node_class: ClassVar[type[Node] | None] = None
+
+    def __init__(self, seed: int = 0) -> None:
+        super().__init__(seed)
+        self._nodes: dict[str, Node] = {}
+        #: (node, callback, exception, traceback) of every failed callback.
+        self.callback_errors: list[tuple[str, str, BaseException, str]] = []
+        #: Re-raise callback exceptions out of :meth:`run` (default) or only
+        #: record them in the trace and :attr:`callback_errors`.
+        self.raise_callback_errors = True
+        #: How long a new publisher→subscriber connection takes to set up (ns).
+        #: Messages published before it exists are not delivered (as in ROS).
+        self.connect_delay_ns: int = 1_000_000
+        #: Where log lines are printed: ``fn(line, level)``, or None (trace only).
+        self.log_output: Callable[[str, int], Any] | None = None
+        self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
+        #: The world's master: registry of nodes, topics, services, and the parameters.
+        self.master = Master(self)
+
+    @property
+    def connect_delay(self) -> int:
+        """Deprecated spelling of :attr:`connect_delay_ns` (nanoseconds)."""
+        return self.connect_delay_ns
+
+    @connect_delay.setter
+    def connect_delay(self, value_ns: int) -> None:
+        self.connect_delay_ns = value_ns
+
+    # -- the ROS graph -----------------------------------------------------------------------
+    @property
+    def params(self) -> ParamServer:
+        """The parameter server (``world.master.params``)."""
+        return self.master.params
+
+    @property
+    def use_sim_time(self) -> bool:
+        """The ``/use_sim_time`` parameter that nodes read when they start."""
+        return bool(self.master.params.get_param("/use_sim_time", False))
+
+    @use_sim_time.setter
+    def use_sim_time(self, value: bool) -> None:
+        self.master.params.set_param("/use_sim_time", bool(value))
+
+    def get_use_sim_time(self) -> bool:
+        """The ``/use_sim_time`` setting that new nodes read."""
+        return self.use_sim_time
+
+    def set_link(self, topic: str | None = None, *, publisher: str | None = None,
+                 subscriber: str | None = None, latency: LinkLatency = 0,
+                 loss: float = 0.0) -> None:
+        """Set the transport model of matching connections (existing and future).
+
+        ``topic``, ``publisher`` and ``subscriber`` (node names) narrow the
+        match; None matches anything; the most specific rule wins, later rules
+        win ties.  ``latency`` is seconds, a Duration, or ``f(rng)`` drawn per
+        message from the connection's own seeded stream; ``loss`` is a
+        probability.
+        """
+        link = LinkModel(latency, loss)
+        self._links.append(((topic, publisher, subscriber), link))
+        for entry in self.master.topics.values():
+            for pub in entry.publishers:
+                for conn in pub.connections:
+                    conn.set_link(self.link_for(conn.pub, conn.sub))
+
+    def link_for(self, pub: Publisher, sub: Subscriber) -> LinkModel:
+        """The transport model a connection from ``pub`` to ``sub`` uses."""
+        best, best_score = LinkModel(), -1
+        for (topic, pnode, snode), link in self._links:
+            if topic is not None and topic != pub.resolved_name:
+                continue
+            if pnode is not None and pnode != pub.node.name:
+                continue
+            if snode is not None and snode != sub.node.name:
+                continue
+            score = (topic is not None) * 4 + (pnode is not None) * 2 + (snode is not None)
+            if score >= best_score:
+                best, best_score = link, score
+        return best
+
+    def graph_connect(self, pub: Publisher, sub: Subscriber) -> None:
+        """Connect a publisher to a subscriber after :attr:`connect_delay_ns`."""
+        connect_later(self, pub, sub, self.connect_delay_ns)
+
+    def topic_stats(self, topic: str) -> dict[str, Any]:
+        """Published/sent/lost/received/dropped/delivered counts of a topic and its connections."""
+        entry = self.master.topics.get(topic)
+        if entry is None:
+            raise ROSTopicException(f"unknown topic {topic}; known: {sorted(self.master.topics)}")
+        conns: list[Connection] = [c for p in entry.publishers for c in p.connections]
+        per: list[dict[str, Any]] = [
+            {"id": c.id, "publisher": c.pub.node.name, "subscriber": c.sub.node.name,
+             "sent": c.sent, "lost": c.lost, "received": c.received, "dropped": c.dropped,
+             "delivered": c.delivered} for c in conns]
+        total = {k: sum(int(c[k]) for c in per)
+                 for k in ("sent", "lost", "received", "dropped", "delivered")}
+        return {"topic": topic, "type": entry.type,
+                "published": sum(p.seq for p in entry.publishers), **total, "connections": per}
+
+    # -- nodes ------------------------------------------------------------------
+    def create_node(self, name: str, **kwargs: Any) -> Node:
+        """Create and start a node (see :class:`ddes.graph.node.Node`)."""
+        cls = self.node_class
+        if cls is None:
+            from ddes.graph.node import Node
+
+            cls = Node
+        return cls(self, name, **kwargs)
+
+    @property
+    def nodes(self) -> dict[str, Node]:
+        """Live nodes by fully-qualified name, in creation order."""
+        return dict(self._nodes)
+
+    def lookup_node(self, name: str) -> Node | None:
+        """The live node of that fully-qualified name, or None."""
+        return self._nodes.get(name)
+
+    def register_node(self, node: Node) -> None:
+        """Add a node to the world; a live node of the same name is shut down (as the master does)."""
+        old = self._nodes.get(node.name)
+        if old is not None:
+            old.shutdown("new node registered with same name")
+        self._nodes[node.name] = node
+
+    def unregister_node(self, node: Node) -> None:
+        """Remove a node that shut down (no-op if another node took its name)."""
+        if self._nodes.get(node.name) is node:
+            del self._nodes[node.name]
+
+    def __repr__(self) -> str:
+        return f"<World seed={self.seed} t={self.env.now / 1e9:.9f}s nodes={len(self._nodes)}>"
