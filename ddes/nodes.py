@@ -81,9 +81,7 @@ def start_node(
     remappings: dict[str, str] | None = None,
 ) -> Node:
     """Start ``package/node_type`` in ``world`` (``rosrun package node_type argv...``)."""
-    from ddes.rospack import RosPack
-
-    rospack = rospack or RosPack()
+    rospack = rospack or world.rospack
     types = load_node_types(rospack.get_path(package))
     try:
         nt = types[node_type]

@@ -24,10 +24,12 @@ def _history_file() -> str | None:
 
 def main(args: argparse.Namespace) -> int:
     """``ddes console [--script FILE] [--keep-going] [--seed N] [--no-core]``."""
-    from ddes.rospack import RosPack
-    from ddes.world import Console
+    from ddes.rospack import env_package_path
+    from ddes.world import Console, World
 
-    console = Console(seed=args.seed, rospack=RosPack(), core=not args.no_core)
+    # The one place the environment is read: when the command starts.
+    world = World(seed=args.seed, package_path=env_package_path(os.environ))
+    console = Console(world, core=not args.no_core)
 
     def write(text: str) -> None:
         sys.stdout.write(text + "\n")

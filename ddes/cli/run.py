@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -68,14 +69,14 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
 
     Returns the world (for its trace and digest).
     """
-    from ddes.graph.world import World
+    from ddes.world import World
     from ddes.launch import load_launch, resolve_launch_args
     from ddes.launch.runtime import LaunchRunner, LogRouter
-    from ddes.rospack import RosPack
+    from ddes.rospack import env_package_path
 
-    rospack = RosPack()
+    world = World(seed=seed, package_path=env_package_path(os.environ))
+    rospack = world.rospack
     path, args = resolve_launch_args(list(argv), rospack)
-    world = World(seed=seed)
     plan = load_launch(path, args, rospack, anon_seed=world.rng_for("roslaunch"))
     router = LogRouter(world, out).install()
     runner = LaunchRunner(world, plan, rospack=rospack, out=out, router=router)
@@ -90,7 +91,8 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
 def run_scenario(path: str | Path, *, until: float, seed: int = 0,
                  out: Callable[[str], None] = _print_line) -> Any:
     """Run a Python scenario file (``def scenario(world)``) for ``until`` simulated seconds."""
-    from ddes.graph.world import World
+    from ddes.rospack import env_package_path
+    from ddes.world import World
 
     file = Path(path)
     if not file.is_file():
@@ -104,7 +106,7 @@ def run_scenario(path: str | Path, *, until: float, seed: int = 0,
     if not callable(scenario):
         raise ROSConsoleError(f"{path} must define 'def scenario(world): ...' (it sets up the "
                               "world's nodes; ddes run then runs the world)")
-    world = World(seed=seed)
+    world = World(seed=seed, package_path=env_package_path(os.environ))
     world.log_output = lambda line, level: out(line)
     scenario(world)
     world.run(until=until)

@@ -170,7 +170,7 @@ def main(args: argparse.Namespace) -> int:
     if handler is None:
         print(_usage(args.mode))
         return 0
-    registry = MessageRegistry()
+    registry = MessageRegistry.from_environment()  # the ddes command starts here
     try:
         return int(handler(args, registry))
     except _ToolError as exc:

@@ -312,11 +312,10 @@ def _cmd_call(ctx: ToolContext, argv: list[str]) -> int:
             raise _ServiceError(str(exc)) from None
         except ROSSerializationException as exc:
             from ddes.console.rosmsg import get_srv_text
-            from ddes.msg.registry import MessageRegistry
 
             raise _ServiceError(
                 "Unable to send request. One of the fields has an incorrect type:\n"
-                f"  {exc}\n\nsrv file:\n{get_srv_text(MessageRegistry(), service_class._type)}"
+                f"  {exc}\n\nsrv file:\n{get_srv_text(ctx.world.messages, service_class._type)}"
             ) from None
         if options.verbose:
             ctx.print(str(request))

@@ -245,7 +245,7 @@ class Console:
         sub = words[1] if len(words) > 1 else ""
         if tool == "rostopic":
             if sub in ("pub",) and index == 3 or sub == "find":
-                return list(_types("msg"))
+                return list(_types("msg", world))
             return topics
         if tool == "rosnode":
             return nodes
@@ -256,17 +256,15 @@ class Console:
         if tool == "rosservice":
             return services
         if tool in ("rosmsg", "rossrv"):
-            return list(_types("msg" if tool == "rosmsg" else "srv"))
+            return list(_types("msg" if tool == "rosmsg" else "srv", world))
         if tool == "rosbag":
             return _paths(words[index]) + topics
         return topics + services + nodes
 
 
-def _types(kind: str) -> Iterable[str]:
-    from ddes.msg import default_registry
-
+def _types(kind: str, world: World) -> Iterable[str]:
     try:
-        return list(default_registry().iter_types(kind))
+        return list(world.messages.iter_types(kind))
     except DdesError:
         return []
 

@@ -77,9 +77,7 @@ class ToolContext:
 
     def __post_init__(self) -> None:
         if self.rospack is None:
-            from ddes.rospack import RosPack
-
-            self.rospack = RosPack()
+            self.rospack = self.world.rospack
 
     def print(self, text: str = "") -> None:
         """Write a line to the tool's standard output."""

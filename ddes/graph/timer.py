@@ -200,7 +200,7 @@ class Timer:
         event._cr = now
         event.last_duration = self._last_duration
         self.fires += 1
-        self._trace.record_fast((self._env.now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
+        self._trace.append_row((self._env.now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
         return self._callback(event)
 
     def _done(self) -> None:

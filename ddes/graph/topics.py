@@ -173,7 +173,7 @@ class Connection:
         now: int = env.now
         if self._loss and self._rng is not None and self._rng.random() < self._loss:
             self.lost += 1
-            world.trace.record_fast((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
+            world.trace.append_row((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
                                      self.pub.resolved_name, self.pub_name, seq, "loss"))
             return
         delay = self._fixed if self._draw is None else link_latency_ns(self._draw(self._rng))
@@ -268,13 +268,8 @@ class Publisher:
         if self.latch:
             self._latched = data
         env = self._env
-        trace = self._trace
-        row = (env.now, "topic.publish", self._node_name, _PUB_KEYS, self.resolved_name, seq,
-               self._nconn)
-        if trace.enabled and not trace._listeners:
-            trace._raw.append(row)
-        else:
-            trace.record_fast(row)
+        self._trace.append_row((env.now, "topic.publish", self._node_name, _PUB_KEYS,
+                                self.resolved_name, seq, self._nconn))
         for delay, conns in self._fanout:
             post(env, delay, (data, seq, conns), _arrive_batch)
         for conn in self._single:
@@ -377,13 +372,8 @@ class Subscriber:
         if self._internal or (cbq.free and not self._queue and not self.cb_active):
             # The spinner is free: deliver now, through the node's runner.
             conn.delivered += 1
-            trace = self._trace
-            row = (self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
-                   self.resolved_name, conn.pub_name, seq)
-            if trace.enabled and not trace._listeners:
-                trace._raw.append(row)
-            else:
-                trace.record_fast(row)
+            self._trace.append_row((self._env.now, "topic.deliver", self._node_name,
+                                    _DELIVER_KEYS, self.resolved_name, conn.pub_name, seq))
             cb = self.callback
             if cb is not None:
                 cbq.run(cb, (msg,) if self.callback_args is None else (msg, self.callback_args),
@@ -395,7 +385,7 @@ class Subscriber:
         if qs is not None and len(q) > qs:
             old_conn, _old, old_seq = q.popleft()
             old_conn.dropped += 1
-            self._trace.record_fast((self._env.now, "topic.drop", self._node_name, _DROP_KEYS,
+            self._trace.append_row((self._env.now, "topic.drop", self._node_name, _DROP_KEYS,
                                      self.resolved_name, old_conn.pub_name, old_seq, "queue_full"))
         cbq.enqueue(self._call_queued, (), self)
 
@@ -405,7 +395,7 @@ class Subscriber:
             return None
         conn, msg, seq = self._queue.popleft()
         conn.delivered += 1
-        self._trace.record_fast((self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
+        self._trace.append_row((self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
                                  self.resolved_name, conn.pub_name, seq))
         cb = self.callback
         if cb is None:

@@ -10,7 +10,8 @@ TF keep their per-world state in the kernel's extension slots; the
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from ddes.errors import ROSTopicException
@@ -18,6 +19,8 @@ from ddes.graph.master import Master
 from ddes.graph.params import ParamServer
 from ddes.graph.topics import Connection, LinkModel, Publisher, Subscriber, connect_later
 from ddes.kernel.kernel import Kernel
+from ddes.msg.registry import MessageRegistry, default_registry
+from ddes.rospack import RosPack
 from ddes.time.units import DurationLike
 
 if TYPE_CHECKING:
@@ -36,13 +39,27 @@ class World(Kernel):
     seed:
         Seeds :attr:`rng` and every stream from :meth:`rng_for`.  Same
         scenario + same seed = same trace.
+    package_path:
+        Folders of the user's ROS packages (their ``msg/``, ``srv/``,
+        ``action/``, node types and launch files), searched before ddes's
+        bundled packages.  They belong to this world only: two worlds with
+        different package paths never see each other's types.  Nothing reads
+        ``DDES_PACKAGE_PATH`` behind your back; the ``ddes`` command passes it
+        here when it starts.
     """
 
     #: The class :meth:`create_node` makes (the ``ddes.World`` facade makes ``ddes.Node``).
     node_class: ClassVar[type[Node] | None] = None
 
-    def __init__(self, seed: int = 0) -> None:
+    def __init__(self, seed: int = 0, *,
+                 package_path: Iterable[str | os.PathLike[str]] = ()) -> None:
         super().__init__(seed)
+        paths = [package_path] if isinstance(package_path, (str, os.PathLike)) else list(package_path)
+        #: Message, service and action types of this world (the bundled
+        #: registry, shared and immutable, unless a package path is given).
+        self.messages: MessageRegistry = MessageRegistry(paths) if paths else default_registry()
+        #: Packages of this world: the package path, then the bundled packages.
+        self.rospack: RosPack = RosPack(paths)
         self._nodes: dict[str, Node] = {}
         #: (node, callback, exception, traceback) of every failed callback.
         self.callback_errors: list[tuple[str, str, BaseException, str]] = []

@@ -3,13 +3,22 @@
 Every observable thing a world does (a timer fire, a delivery, a drop, a
 service call, a goal transition, a log line) is appended as a
 :class:`TraceEvent` ``(t, kind, source, details)``.  ``t`` is the kernel time
-in integer nanoseconds; ``kind`` is a dotted name such as ``"timer.fire"``;
-``source`` names the entity (usually a node or topic); ``details`` is a dict
-of JSON-able values.
+in integer nanoseconds; ``kind`` is a dotted name such as ``"timer.fire"``
+(every kind ddes records is catalogued in :data:`ddes.kernel.kinds.TRACE_KINDS`);
+``source`` names the entity (usually a node); ``details`` is a dict of
+JSON-able values.
+
+Writing: :meth:`Trace.append` (``details`` a dict) and :meth:`Trace.append_row`,
+the hot-path form ``(t, kind, source, keys, *values)`` whose details dict is
+built only when the event is read.  Reading: iterate, index,
+:meth:`Trace.select` (a :class:`TraceSelection`), :attr:`Trace.counts`.
 
 :meth:`Trace.digest` is a sha256 over a canonical JSON-lines form (sorted
 keys, no whitespace, Time/Duration as integer nanoseconds, messages as
-dicts), so two runs are identical iff their digests are.
+dicts) of the *stored* events, so two runs are identical iff their digests
+are.  Events that are only counted (``enabled = False``, or filtered out by
+:meth:`Trace.set_filter`) are not in the digest; :attr:`Trace.complete` says
+whether that happened.  See ``docs/trace.md``.
 """
 
 from __future__ import annotations
@@ -17,10 +26,19 @@ from __future__ import annotations
 import hashlib
 import json
 from collections import Counter
-from collections.abc import Callable, Iterable, Iterator
-from typing import Any, NamedTuple
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from operator import attrgetter
+from typing import TYPE_CHECKING, Any, NamedTuple
 
-__all__ = ["Trace", "TraceEvent", "canonical"]
+from ddes.errors import DdesTypeError, DdesValueError
+from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
+
+__all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
+
+Row = tuple[Any, ...]
+Listener = Callable[["TraceEvent"], None]
+
+_MISSING: Any = object()
 
 
 class TraceEvent(NamedTuple):
@@ -66,51 +84,266 @@ def canonical(value: Any) -> Any:
     return repr(value)
 
 
-def _event(raw: tuple[Any, ...]) -> TraceEvent:
-    if len(raw) == 4:
+def _event(raw: Row) -> TraceEvent:
+    # A stored row is either (t, kind, source, details_dict) from append(), or
+    # (t, kind, source, keys, *values) from append_row(); keys is a tuple.
+    if len(raw) == 4 and type(raw[3]) is not tuple:
         return TraceEvent(*raw)
     return TraceEvent(raw[0], raw[1], raw[2], dict(zip(raw[3], raw[4:])))
 
 
-class Trace:
-    """An append-only list of :class:`TraceEvent` with counters and a digest."""
+def _same(have: Any, want: Any) -> bool:
+    """Detail matching: equal values; a Time/Duration also equals its int nanoseconds."""
+    if have is _MISSING:
+        return False
+    if have == want:
+        return True
+    for a, b in ((have, want), (want, have)):
+        if type(b) is int and callable(getattr(a, "to_nsec", None)):
+            return bool(a.to_nsec() == b)
+    return False
 
-    __slots__ = ("_raw", "_counts", "enabled", "_listeners")
+
+def _nanoseconds(value: Any, name: str) -> int | None:
+    if value is None:
+        return None
+    if type(value) is int:
+        return value
+    to_nsec = getattr(value, "to_nsec", None)
+    if callable(to_nsec):
+        return int(to_nsec())
+    raise DdesTypeError(
+        f"{name} takes integer nanoseconds or a Time/Duration (to_nsec()), not "
+        f"{type(value).__name__} {value!r}; e.g. {name}=int(2.5e9) or {name}=Time(2, 500000000)"
+    )
+
+
+def _match_details(details: Mapping[str, Any], want: Mapping[str, Any]) -> bool:
+    return all(_same(details.get(k, _MISSING), v) for k, v in want.items())
+
+
+class TraceSelection(list[TraceEvent]):
+    """The events :meth:`Trace.select` found (a list), with helpers for asserting on them."""
+
+    __slots__ = ()
+
+    def kinds(self) -> Counter[str]:
+        """How many events of each kind."""
+        return Counter(ev.kind for ev in self)
+
+    def sources(self) -> Counter[str]:
+        """How many events from each source."""
+        return Counter(ev.source for ev in self)
+
+    def times(self) -> list[int]:
+        """The time of every event (integer nanoseconds), in order."""
+        return [ev.t for ev in self]
+
+    def first(self) -> TraceEvent | None:
+        """The earliest event, or None."""
+        return self[0] if self else None
+
+    def last(self) -> TraceEvent | None:
+        """The latest event, or None."""
+        return self[-1] if self else None
+
+    def where(self, **details: Any) -> TraceSelection:
+        """The events whose details have all these values (compared with ``==``)."""
+        return TraceSelection(ev for ev in self if _match_details(ev.details, details))
+
+    def to_rows(self) -> list[dict[str, Any]]:
+        """One flat dict per event: ``t``, ``kind``, ``source``, then the details' keys.
+
+        A detail key that collides with ``t``/``kind``/``source`` is written
+        as ``"details.<key>"``.  Handy for ``pandas.DataFrame(sel.to_rows())``.
+        """
+        rows = []
+        for ev in self:
+            row: dict[str, Any] = {"t": ev.t, "kind": ev.kind, "source": ev.source}
+            for key, value in ev.details.items():
+                row[f"details.{key}" if key in ("t", "kind", "source") else key] = value
+            rows.append(row)
+        return rows
+
+
+def _filter_active_marker(event: TraceEvent) -> None:
+    """A no-op in ``Trace._listeners`` while a filter is set (see ``Trace._rebind``)."""
+
+
+class Trace:
+    """An append-only list of :class:`TraceEvent` with counters, filters, queries and a digest.
+
+    ``append_row`` (and its old name ``record_fast``) is an attribute, not a
+    method: while the trace is enabled with no listeners and no filter it *is*
+    ``list.append`` of the stored rows, so the hot path costs one C call.
+    Changing :attr:`enabled`, :meth:`subscribe`/:meth:`unsubscribe` or
+    :meth:`set_filter` re-binds it to a checking method.
+    """
+
+    __slots__ = (
+        "_raw", "_counts", "_enabled", "_subscribers", "_notify", "_listeners",
+        "_include", "_exclude", "_decisions", "_fast", "append_row", "record_fast",
+    )
+
+    #: ``append_row(row)``: append ``(t, kind, source, keys, *values)``, keys a tuple of names.
+    append_row: Callable[[Row], None]
+    #: The old name of :attr:`append_row`.
+    record_fast: Callable[[Row], None]
 
     def __init__(self) -> None:
-        # Plain tuples on the hot path; wrapped in TraceEvent when read.
-        self._raw: list[tuple[Any, ...]] = []
+        # Plain tuples on the hot path; wrapped in TraceEvent when read.  Never
+        # re-assign _raw: append_row may be bound to its append.
+        self._raw: list[Row] = []
+        #: Events counted but not stored (disabled or filtered out), by kind.
         self._counts: dict[str, int] = {}
-        #: When False, events are counted but not stored (long benchmarks).
-        self.enabled = True
-        self._listeners: list[Callable[[TraceEvent], None]] = []
+        self._enabled = True
+        self._subscribers: list[Listener] = []
+        self._notify: tuple[Listener, ...] = ()
+        # Kept for callers written before append_row: truthy iff rows must go
+        # through record_fast (listeners, or a filter) rather than _raw.append.
+        self._listeners: tuple[Listener, ...] = ()
+        self._include: tuple[frozenset[str], tuple[str, ...]] | None = None
+        self._exclude: tuple[frozenset[str], tuple[str, ...]] | None = None
+        self._decisions: dict[str, bool] = {}
+        self._fast = True
+        self._rebind()
 
-    def record(self, t: int, kind: str, source: str, details: dict[str, Any] | None = None) -> None:
-        """Append one event (stored, or only counted while :attr:`enabled` is False)."""
-        if self.enabled:
-            raw = (t, kind, source, details if details is not None else {})
-            self._raw.append(raw)
-            if self._listeners:
-                ev = TraceEvent(*raw)
-                for listener in self._listeners:
-                    listener(ev)
-        else:
-            self._counts[kind] = self._counts.get(kind, 0) + 1
+    # copy/deepcopy/pickle: append_row must be re-bound to the new object's own list
+    # (copy.deepcopy treats a bound builtin method as atomic: it would keep appending
+    # to the original list).
+    def __getstate__(self) -> dict[str, Any]:
+        skip = {"append_row", "record_fast", "_notify", "_listeners", "_decisions", "_fast"}
+        return {name: getattr(self, name) for name in self.__slots__ if name not in skip}
 
-    def record_fast(self, row: tuple[Any, ...]) -> None:
-        """Hot-path form: ``(t, kind, source, keys, *values)``, keys a tuple of names.
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        for name, value in state.items():
+            setattr(self, name, value)
+        self._rebind()
 
-        Stored as given; the details dict is built only when the event is read.
-        """
-        if self.enabled:
+    # -- state that decides the hot path ---------------------------------------------
+
+    def _rebind(self) -> None:
+        filtered = self._include is not None or self._exclude is not None
+        self._notify = tuple(self._subscribers)
+        self._listeners = self._notify + ((_filter_active_marker,) if filtered else ())
+        self._decisions = {}
+        self._fast = self._enabled and not self._notify and not filtered
+        fn: Callable[[Row], None] = self._raw.append if self._fast else self._append_checked
+        self.append_row = fn
+        self.record_fast = fn
+
+    def _set_enabled(self, value: bool) -> None:
+        self._enabled = bool(value)
+        self._rebind()
+
+    if TYPE_CHECKING:
+
+        @property
+        def enabled(self) -> bool:
+            """When False, events are counted but not stored (long benchmarks)."""
+            return self._enabled
+
+        @enabled.setter
+        def enabled(self, value: bool) -> None: ...
+
+    else:
+        # A C getter (attrgetter): callers still test `trace.enabled` per event.
+        enabled = property(
+            attrgetter("_enabled"),
+            _set_enabled,
+            doc="When False, events are counted but not stored (long benchmarks).",
+        )
+
+    def _keep(self, kind: str) -> bool:
+        keep = self._decisions.get(kind)
+        if keep is None:
+            keep = True
+            if self._include is not None:
+                exact, prefixes = self._include
+                keep = kind in exact or kind.startswith(prefixes)
+            if keep and self._exclude is not None:
+                exact, prefixes = self._exclude
+                keep = not (kind in exact or kind.startswith(prefixes))
+            self._decisions[kind] = keep
+        return keep
+
+    def _append_checked(self, row: Row) -> None:
+        """append_row when something is active: enabled flag, filter, listeners."""
+        kind = row[1]
+        if self._enabled and (self._include is None and self._exclude is None or self._keep(kind)):
             self._raw.append(row)
-            if self._listeners:
+            if self._notify:
                 ev = _event(row)
-                for listener in self._listeners:
+                for listener in self._notify:
                     listener(ev)
         else:
-            kind = row[1]
             self._counts[kind] = self._counts.get(kind, 0) + 1
+
+    # -- writing ---------------------------------------------------------------------
+
+    def append(self, t: int, kind: str, source: str, details: dict[str, Any] | None = None) -> None:
+        """Append one event (stored; or only counted while disabled or filtered out).
+
+        ``details`` is stored as given (not copied): do not mutate it afterwards.
+        """
+        row = (t, kind, source, details if details is not None else {})
+        if self._fast:
+            self._raw.append(row)
+        else:
+            self._append_checked(row)
+
+    #: The old name of :meth:`append`.
+    record = append
+
+    # -- filters ---------------------------------------------------------------------
+
+    def set_filter(
+        self,
+        include: Iterable[str] | None = None,
+        exclude: Iterable[str] | None = None,
+        *,
+        strict: bool = True,
+    ) -> None:
+        """Store only some kinds from now on; ``set_filter()`` stores everything again.
+
+        ``include`` and ``exclude`` hold kinds (``"timer.fire"``) or kind
+        prefixes ending in ``"."`` (``"topic."``).  An event is stored when it
+        matches ``include`` (if given) and does not match ``exclude``.  The
+        others are counted in :attr:`counts` but not stored, as with
+        ``enabled = False``: they are not in :meth:`digest`, which covers stored
+        events only, so a filter changes the digest, and :attr:`complete`
+        becomes False.  With ``strict`` (the default) a name that is neither a
+        catalogued kind nor a prefix of one raises ``DdesValueError``.
+        """
+        self._include = None if include is None else self._compile(include, "include", strict)
+        self._exclude = None if exclude is None else self._compile(exclude, "exclude", strict)
+        self._rebind()
+
+    @staticmethod
+    def _compile(names: Iterable[str], what: str, strict: bool) -> tuple[frozenset[str], tuple[str, ...]]:
+        items = [names] if isinstance(names, str) else list(names)
+        for name in items:
+            if not isinstance(name, str):
+                raise DdesTypeError(f"set_filter({what}=...) takes kind names, got {name!r}")
+            if strict and name not in TRACE_KINDS and name not in KIND_PREFIXES:
+                raise DdesValueError(_unknown(name, f"set_filter({what}=...)", strict_hint=True))
+        exact = frozenset(n for n in items if not n.endswith("."))
+        prefixes = tuple(sorted({n for n in items if n.endswith(".")}))
+        return exact, prefixes
+
+    @property
+    def filtered(self) -> bool:
+        """Whether a filter set with :meth:`set_filter` is active."""
+        return self._include is not None or self._exclude is not None
+
+    @property
+    def complete(self) -> bool:
+        """False once any event was counted but not stored (disabled or filtered out).
+
+        The digest covers stored events only, so it describes an incomplete
+        trace's run only partly.
+        """
+        return not self._counts
 
     @property
     def counts(self) -> Counter[str]:
@@ -119,13 +352,24 @@ class Trace:
         out.update(self._counts)
         return out
 
-    def subscribe(self, listener: Callable[[TraceEvent], None]) -> None:
-        """Call ``listener(event)`` for every event recorded from now on."""
-        self._listeners.append(listener)
+    @property
+    def counted_only(self) -> Counter[str]:
+        """How many events of each kind were only counted, not stored."""
+        return Counter(self._counts)
 
-    def unsubscribe(self, listener: Callable[[TraceEvent], None]) -> None:
+    # -- listeners -------------------------------------------------------------------
+
+    def subscribe(self, listener: Listener) -> None:
+        """Call ``listener(event)`` for every event stored from now on."""
+        self._subscribers.append(listener)
+        self._rebind()
+
+    def unsubscribe(self, listener: Listener) -> None:
         """Stop calling a listener added with :meth:`subscribe`."""
-        self._listeners.remove(listener)
+        self._subscribers.remove(listener)
+        self._rebind()
+
+    # -- reading ---------------------------------------------------------------------
 
     def __len__(self) -> int:
         return len(self._raw)
@@ -141,29 +385,128 @@ class Trace:
         """All stored events, in the order they happened."""
         return [_event(raw) for raw in self._raw]
 
+    def select(
+        self,
+        kind: str | tuple[str, ...] | None = None,
+        source: str | tuple[str, ...] | None = None,
+        prefix: str | None = None,
+        since_ns: Any = None,
+        until_ns: Any = None,
+        **details: Any,
+    ) -> TraceSelection:
+        """The stored events that match every criterion given, in order.
+
+        ``kind``: a kind, a prefix ending in ``"."`` (``"topic."``), or a tuple
+        of those (any of them).  A single string that is neither a catalogued
+        kind, nor a prefix of one, nor a kind this trace has recorded raises
+        ``DdesValueError`` naming close matches.  ``source``: a source or a
+        tuple of sources.  ``prefix``: a plain string prefix of the kind.
+        ``since_ns``/``until_ns``: inclusive bounds on ``t``, as integer
+        nanoseconds or a ``Time`` (anything with ``to_nsec()``); floats are
+        refused.  ``**details``: detail values the event must have (``==``; a
+        Time/Duration also equals its integer nanoseconds).
+        """
+        for name in ("since", "until", "t"):
+            if name in details:
+                raise DdesTypeError(
+                    f"select() has no {name}=; bound times with since_ns=/until_ns= (integer "
+                    f"nanoseconds or a Time), e.g. since_ns=Time(2) or since_ns=2_000_000_000")
+        if isinstance(kind, str):
+            if not (kind in TRACE_KINDS or kind in KIND_PREFIXES or self._has_kind(kind)):
+                raise DdesValueError(_unknown(kind, "select(kind=...)"))
+            kinds: tuple[str, ...] | None = (kind,)
+        elif kind is None:
+            kinds = None
+        else:
+            kinds = tuple(kind)
+        return self._select(kinds, source, prefix, since_ns, until_ns, details)
+
+    def _has_kind(self, kind: str) -> bool:
+        if kind in self._counts:
+            return True
+        if kind.endswith("."):
+            return any(raw[1].startswith(kind) for raw in self._raw) or any(
+                k.startswith(kind) for k in self._counts)
+        return any(raw[1] == kind for raw in self._raw)
+
+    def _select(
+        self,
+        kinds: tuple[str, ...] | None,
+        source: str | tuple[str, ...] | None,
+        prefix: str | None,
+        since_ns: Any,
+        until_ns: Any,
+        details: Mapping[str, Any],
+        *,
+        kind_prefixes: bool = True,
+    ) -> TraceSelection:
+        lo = _nanoseconds(since_ns, "since_ns")
+        hi = _nanoseconds(until_ns, "until_ns")
+        exact: frozenset[str] | None = None
+        kprefixes: tuple[str, ...] = ()
+        if kinds is not None:
+            if kind_prefixes:
+                exact = frozenset(k for k in kinds if not k.endswith("."))
+                kprefixes = tuple(k for k in kinds if k.endswith("."))
+            else:
+                exact = frozenset(kinds)
+        sources = None if source is None else (
+            frozenset((source,)) if isinstance(source, str) else frozenset(source))
+        out = TraceSelection()
+        for raw in self._raw:
+            t, k = raw[0], raw[1]
+            if exact is not None and k not in exact and not (kprefixes and k.startswith(kprefixes)):
+                continue
+            if prefix is not None and not k.startswith(prefix):
+                continue
+            if sources is not None and raw[2] not in sources:
+                continue
+            if (lo is not None and t < lo) or (hi is not None and t > hi):
+                continue
+            ev = _event(raw)
+            if details and not _match_details(ev.details, details):
+                continue
+            out.append(ev)
+        return out
+
     def filter(
         self,
         kind: str | None = None,
         source: str | None = None,
         prefix: str | None = None,
     ) -> list[TraceEvent]:
-        """Events of a kind (exact), a kind prefix (``"topic."``) and/or a source."""
-        out: Iterable[TraceEvent] = iter(self)
-        if kind is not None:
-            out = (e for e in out if e.kind == kind)
-        if prefix is not None:
-            out = (e for e in out if e.kind.startswith(prefix))
-        if source is not None:
-            out = (e for e in out if e.source == source)
-        return list(out)
+        """Events of a kind (exact), a kind prefix (``"topic."``) and/or a source.
+
+        The older, lenient form of :meth:`select`: an unknown kind gives ``[]``.
+        """
+        kinds = None if kind is None else (kind,)
+        return self._select(kinds, source, prefix, None, None, {}, kind_prefixes=False)
+
+    # -- the catalogue ---------------------------------------------------------------
+
+    @staticmethod
+    def kinds_catalogue() -> Mapping[str, TraceKind]:
+        """Every kind ddes records (:data:`ddes.kernel.kinds.TRACE_KINDS`)."""
+        return TRACE_KINDS
+
+    @staticmethod
+    def describe(kind: str) -> str:
+        """A human-readable line on a kind, or on every kind under a prefix (``"topic."``)."""
+        return describe(kind)
+
+    # -- the canonical form ----------------------------------------------------------
 
     def lines(self) -> Iterator[str]:
-        """The canonical JSON line of every event."""
+        """The canonical JSON line of every stored event."""
         for ev in self:
             yield ev.to_json()
 
     def digest(self) -> str:
-        """sha256 (hex) over the canonical form of every stored event."""
+        """sha256 (hex) over the canonical form of every stored event.
+
+        Only stored events count: with ``enabled = False`` or a filter the
+        digest covers part of the run (see :attr:`complete`).
+        """
         h = hashlib.sha256()
         for line in self.lines():
             h.update(line.encode("utf-8"))
@@ -184,3 +527,15 @@ class Trace:
                            for k, v in sorted(ev.details.items()))
             rows.append(f"{ev.t / 1e9:14.9f}  {ev.kind:<20} {ev.source:<24} {det}")
         return "\n".join(rows)
+
+
+def _unknown(kind: str, where: str, strict_hint: bool = False) -> str:
+    near = close_matches(kind)
+    msg = f"{where}: unknown trace kind {kind!r}"
+    if near:
+        msg += f"; did you mean {' or '.join(map(repr, near))}?"
+    elif not kind.endswith(".") and any(k.startswith(kind + ".") for k in TRACE_KINDS):
+        msg += f"; a prefix ends in '.': {kind + '.'!r}"
+    msg += " (the kinds are listed in ddes.kernel.kinds.TRACE_KINDS and docs/trace.md"
+    msg += "; pass strict=False for kinds of your own)" if strict_hint else ")"
+    return msg

@@ -178,11 +178,9 @@ class LaunchRunner:
 
     def __init__(self, world: World, plan: LaunchPlan, *, rospack: RosPack | None = None,
                  out: Print = print, router: LogRouter | None = None) -> None:
-        from ddes.rospack import RosPack
-
         self.world = world
         self.plan = plan
-        self.rospack = rospack or RosPack()
+        self.rospack = rospack or world.rospack
         self.out = out
         if router is None:
             current = world.log_output

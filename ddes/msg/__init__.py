@@ -8,9 +8,11 @@ Quick start::
     data = serialize_message(String(data="hi"))      # ROS 1 wire bytes
     assert deserialize_message(String, data).data == "hi"
 
-Types are looked up on a package path by a :class:`MessageRegistry`; the
-module-level functions use the lazily created default registry (bundled
-packages + ``DDES_PACKAGE_PATH``).  See docs/messages.md.
+Types are looked up on a package path by a :class:`MessageRegistry`, one
+per world, layered over the shared, immutable bundled registry
+(:func:`default_registry`, ddes's own packages), which the module-level
+functions use.  No environment variable is read unless you call
+:meth:`MessageRegistry.from_environment`.  See docs/messages.md.
 """
 
 from ddes.msg.convert import (

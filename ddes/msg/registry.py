@@ -7,24 +7,38 @@ one of the seven messages of ``<pkg>/action/<Name>.action``; ``pkg/Srv`` is
 per registry, so a type's class is built once and is the same object on
 every lookup.
 
-The *default registry* (bundled packages + ``DDES_PACKAGE_PATH``) is created
-lazily on first use and then kept for the life of the process; it backs the
-module-level :func:`get_message_class` and :func:`get_service_class`.  Pass
-``registry=`` (or build ``MessageRegistry(paths)``) for anything else.
-Classes built from a ``message_definition`` text (bags) are cached by
-``(type, text)``; both caches hold only generated, immutable-by-contract
-things.
+Registries are layered: ``MessageRegistry(paths)`` holds the packages on
+``paths`` and takes every other package from its parent, by default the
+*bundled registry* (:func:`default_registry`: ddes's own packages, no
+environment variable).  A type that comes entirely from the parent is the
+parent's class object, so ``std_msgs/String`` is one class in every world
+that does not shadow ``std_msgs``.  The bundled registry is the only
+process-wide registry; it is built lazily once, is immutable (nothing can be
+added to it; its caches hold only parsed specs and generated,
+immutable-by-contract classes) and backs the module-level
+:func:`get_message_class` and :func:`get_service_class`.  Packages of your
+own go in a registry of their own, one per world: two registries never see
+each other's types.  ``DDES_PACKAGE_PATH`` is read only by an explicit
+:meth:`MessageRegistry.from_environment` call.
+
+Classes built from a ``message_definition`` text (bags) are cached
+process-wide by ``(type, text)``.  That is safe across registries because
+such a class is built in a private registry with no package path and no
+parent, from the specs in the text alone: it is purely a function of the
+key, so no registry's packages can leak into it.
 """
 
 from __future__ import annotations
 
+import enum
 import functools
 import os
-from collections.abc import Iterable, Iterator
+import threading
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any, cast
 
-from ddes.errors import InvalidMsgSpec, MsgNotFound
+from ddes.errors import DdesTypeError, DdesValueError, InvalidMsgSpec, MsgNotFound
 from ddes.msg.codegen import generate_message_class
 from ddes.msg.gentools import SEPARATOR, compute_full_text, compute_md5, compute_srv_md5
 from ddes.msg.message import Message, ServiceDefinition
@@ -39,7 +53,7 @@ from ddes.msg.spec import (
     is_builtin,
     is_legal_base_name,
 )
-from ddes.rospack import PackageNotFound, RosPack
+from ddes.rospack import PackageNotFound, RosPack, env_package_path
 from ddes.time.rostime import Duration, Time
 
 __all__ = [
@@ -71,45 +85,152 @@ def _split_name(name: str, what: str) -> tuple[str, str]:
     return pkg, base
 
 
+class _Parent(enum.Enum):
+    """Sentinel: the parent of a registry when none is given (the bundled registry)."""
+
+    DEFAULT = "default_registry()"
+
+
 class MessageRegistry:
     """Message, service and action types on a package path, and their classes.
 
-    ``paths`` come first, then ``DDES_PACKAGE_PATH`` (unless
-    ``use_env=False``), then ddes's bundled packages (unless
-    ``bundled=False``); the first package of a name wins.
+    ``MessageRegistry(paths)`` layers the packages found on ``paths`` over
+    ``parent`` (default: the bundled registry, :func:`default_registry`).
+    A package on ``paths`` wins over one of the same name further down the
+    chain (first one wins, as with ``ROS_PACKAGE_PATH``); every other
+    package comes from the parent.  A type whose whole dependency closure
+    comes from the parent *is the parent's class*: ``std_msgs/String`` is one
+    class object in every registry that does not shadow ``std_msgs``, so
+    messages flow between worlds (and bags) without conversion.  A parent
+    type that depends on a shadowed package (``geometry_msgs/PoseStamped``
+    over a user ``std_msgs``) is rebuilt here, exactly as a flat package path
+    would resolve it.
+
+    ``parent=None`` (or ``bundled=False``) gives a registry of ``paths``
+    alone.  ``rospack`` may replace ``paths`` by a ready
+    :class:`~ddes.rospack.RosPack` (its bundled folder counts as one of
+    this registry's own folders then).  The environment is read only by
+    :meth:`from_environment` or an explicit ``use_env=True`` (default
+    False), never later.
     """
 
-    def __init__(self, paths: Iterable[str | os.PathLike[str]] = (), *, use_env: bool = True,
-                 bundled: bool = True, rospack: RosPack | None = None) -> None:
-        self.rospack = rospack if rospack is not None else RosPack(
-            paths, use_env=use_env, bundled=bundled)
+    def __init__(self, paths: Iterable[str | os.PathLike[str]] = (), *,
+                 parent: MessageRegistry | None | _Parent = _Parent.DEFAULT,
+                 use_env: bool = False, bundled: bool = True,
+                 rospack: RosPack | None = None) -> None:
+        if rospack is not None:
+            paths = list(paths)
+            if paths or use_env:
+                raise DdesValueError("MessageRegistry: pass either paths/use_env or rospack, "
+                                     "not both")
+            own = rospack
+        else:
+            own = RosPack(paths, use_env=use_env, bundled=False)
+        if parent is _Parent.DEFAULT:
+            parent = default_registry() if bundled else None
+        elif parent is not None and not bundled:
+            raise DdesValueError("MessageRegistry: bundled=False means no parent; "
+                                 f"got parent={parent!r}")
+        if parent is not None and not isinstance(parent, MessageRegistry):
+            raise DdesTypeError(f"MessageRegistry parent must be a MessageRegistry or None, "
+                                f"not {type(parent).__name__}")
+        self._rospack = own
+        self._parent: MessageRegistry | None = parent
+        self._frozen = False
+        self._added: set[str] = set()
         self._specs: dict[str, MsgSpec] = {}
         self._srv_specs: dict[str, SrvSpec] = {}
         self._actions: dict[str, ActionSpec] = {}
         self._md5: dict[str, str] = {}
         self._full: dict[str, str] = {}
         self._checked: set[str] = set()
+        self._inherited: dict[str, bool] = {}
         self._classes: dict[str, type[Message]] = {}
         self._srv_classes: dict[str, type[ServiceDefinition]] = {}
 
+    @classmethod
+    def from_environment(cls, environ: Mapping[str, str] = os.environ, *,
+                         paths: Iterable[str | os.PathLike[str]] = (),
+                         parent: MessageRegistry | None | _Parent = _Parent.DEFAULT
+                         ) -> MessageRegistry:
+        """A registry of ``paths`` then the folders of ``DDES_PACKAGE_PATH`` in ``environ``.
+
+        ``DDES_PACKAGE_PATH`` is ``os.pathsep``-separated.  It is read once,
+        by this call: changing the environment later changes nothing.  This
+        is the only place ddes's message registries read the environment.
+        """
+        return cls([*paths, *env_package_path(environ)], parent=parent)
+
+    @property
+    def rospack(self) -> RosPack:
+        """This registry's own package path (the parent's is not included)."""
+        return self._rospack
+
+    @property
+    def parent(self) -> MessageRegistry | None:
+        """The registry below this one (None for the bundled registry)."""
+        return self._parent
+
+    @property
+    def frozen(self) -> bool:
+        """True for the shared bundled registry: nothing can be added to it."""
+        return self._frozen
+
+    @property
+    def search_path(self) -> tuple[Path, ...]:
+        """Every folder searched, this registry's first, then the parent's."""
+        below = self._parent.search_path if self._parent is not None else ()
+        return (*self._rospack.paths, *below)
+
     def __repr__(self) -> str:
-        return f"MessageRegistry({[str(p) for p in self.rospack.paths]!r})"
+        if self._frozen and self._parent is None:
+            return "<bundled MessageRegistry (ddes.msg.default_registry())>"
+        own = [str(p) for p in self._rospack.paths]
+        parent = "default_registry()" if self._parent is _BUNDLED else repr(self._parent)
+        return f"MessageRegistry({own!r}, parent={parent})"
 
     # -- files ---------------------------------------------------------------------------
+    def _holds(self, full: str) -> bool:
+        """True if this registry (not a parent) defines type ``full``."""
+        return full in self._added or full.partition("/")[0] in self._rospack
+
+    def _chain_has(self, pkg: str, full: str = "") -> bool:
+        """True if this registry or one below it has package ``pkg`` (or added type ``full``)."""
+        if full in self._added or pkg in self._rospack:
+            return True
+        return self._parent is not None and self._parent._chain_has(pkg, full)
+
+    def _unknown_package(self, pkg: str, base: str, what: str) -> MsgNotFound:
+        searched = ", ".join(str(p) for p in self.search_path) or "(empty path)"
+        return MsgNotFound(
+            f"Cannot locate {what} [{pkg}/{base}]: unknown package [{pkg}]; searched "
+            f"the package path: {searched}. Add the folder holding '{pkg}' to the package "
+            "path: MessageRegistry(paths), World(package_path=[...]), or DDES_PACKAGE_PATH "
+            "read by MessageRegistry.from_environment()"
+        )
+
     def _package_folder(self, pkg: str, base: str, what: str) -> Path:
         try:
-            return self.rospack.get_path(pkg)
+            return self._rospack.get_path(pkg)
         except PackageNotFound:
-            searched = ", ".join(str(p) for p in self.rospack.paths) or "(empty path)"
-            raise MsgNotFound(
-                f"Cannot locate {what} [{pkg}/{base}]: unknown package [{pkg}]; searched "
-                f"the package path: {searched}. Add the folder holding '{pkg}' to "
-                "DDES_PACKAGE_PATH or pass it to MessageRegistry(paths)"
-            ) from None
+            raise self._unknown_package(pkg, base, what) from None
 
     def add_msg_spec(self, spec: MsgSpec) -> None:
-        """Register a parsed message spec (used for definitions not on the path)."""
+        """Register a parsed message spec (used for definitions not on the path).
+
+        Do it before the type (or one using it) is first looked up.  The
+        shared bundled registry is immutable: adding to it raises
+        :class:`~ddes.errors.DdesTypeError`; build a ``MessageRegistry``
+        over it instead.
+        """
+        if self._frozen:
+            raise DdesTypeError(
+                f"the bundled registry is shared by every world and cannot be changed (adding "
+                f"{spec.full_name}); build MessageRegistry(paths) over it instead"
+            )
+        self._added.add(spec.full_name)
         self._specs[spec.full_name] = spec
+        self._inherited.clear()
 
     def get_msg_spec(self, type_name: str) -> MsgSpec:
         """The parsed spec of message ``pkg/Type`` (``Header`` means std_msgs/Header)."""
@@ -119,6 +240,12 @@ class MessageRegistry:
         full = f"{pkg}/{base}"
         if full in self._specs:
             return self._specs[full]
+        if pkg not in self._rospack:
+            if self._parent is None or not self._parent._chain_has(pkg, full):
+                raise self._unknown_package(pkg, base, "message")
+            inherited = self._parent.get_msg_spec(full)
+            self._specs[full] = inherited
+            return inherited
         folder = self._package_folder(pkg, base, "message")
         path = folder / "msg" / f"{base}.msg"
         tried = [str(path)]
@@ -147,11 +274,15 @@ class MessageRegistry:
         if type_name in self._actions:
             return self._actions[type_name]
         pkg, base = _split_name(type_name, "action")
-        path = self._package_folder(pkg, base, "action") / "action" / f"{base}.action"
-        if not path.is_file():
-            raise MsgNotFound(f"Cannot locate action [{base}] in package [{pkg}]; searched {path}")
-        spec = parse_action(path.read_text(encoding="utf-8"), f"{pkg}/{base}",
-                            filename=str(path))
+        if pkg not in self._rospack and self._parent is not None and self._parent._chain_has(pkg):
+            spec = self._parent.get_action_spec(f"{pkg}/{base}")
+        else:
+            path = self._package_folder(pkg, base, "action") / "action" / f"{base}.action"
+            if not path.is_file():
+                raise MsgNotFound(
+                    f"Cannot locate action [{base}] in package [{pkg}]; searched {path}")
+            spec = parse_action(path.read_text(encoding="utf-8"), f"{pkg}/{base}",
+                                filename=str(path))
         self._actions[type_name] = spec
         return spec
 
@@ -160,10 +291,15 @@ class MessageRegistry:
         if type_name in self._srv_specs:
             return self._srv_specs[type_name]
         pkg, base = _split_name(type_name, "service")
-        path = self._package_folder(pkg, base, "service") / "srv" / f"{base}.srv"
-        if not path.is_file():
-            raise MsgNotFound(f"Cannot locate service [{base}] in package [{pkg}]; searched {path}")
-        spec = parse_srv(path.read_text(encoding="utf-8"), f"{pkg}/{base}", filename=str(path))
+        if pkg not in self._rospack and self._parent is not None and self._parent._chain_has(pkg):
+            spec = self._parent.get_srv_spec(f"{pkg}/{base}")
+        else:
+            path = self._package_folder(pkg, base, "service") / "srv" / f"{base}.srv"
+            if not path.is_file():
+                raise MsgNotFound(
+                    f"Cannot locate service [{base}] in package [{pkg}]; searched {path}")
+            spec = parse_srv(path.read_text(encoding="utf-8"), f"{pkg}/{base}",
+                             filename=str(path))
         self._srv_specs[type_name] = spec
         return spec
 
@@ -189,6 +325,24 @@ class MessageRegistry:
             self._check_closure(dep, (*stack, spec.full_name))
         self._checked.add(spec.full_name)
 
+    def _inherits(self, spec: MsgSpec) -> bool:
+        """True if every type ``spec`` uses (transitively) comes from the parent.
+
+        Call after :meth:`_check_closure` (no unknown or circular types).
+        """
+        return self._parent is not None and all(
+            self._type_inherited(bare_msg_type(f.type))
+            for f in spec.fields if not is_builtin(bare_msg_type(f.type)))
+
+    def _type_inherited(self, type_name: str) -> bool:
+        """True if message ``type_name`` is the parent's: it and its closure are not ours."""
+        done = self._inherited.get(type_name)
+        if done is None:
+            spec = self.get_msg_spec(type_name)
+            done = not self._holds(spec.full_name) and self._inherits(spec)
+            self._inherited[type_name] = done
+        return done
+
     def _md5_of_spec(self, spec: MsgSpec) -> str:
         self._check_closure(spec)
         return compute_md5(spec, self.get_msg_spec, self._md5)
@@ -197,7 +351,11 @@ class MessageRegistry:
         """md5 of message ``pkg/Type``, as genmsg computes it."""
         spec = self.get_msg_spec(type_name)
         if spec.full_name not in self._md5:
-            self._md5[spec.full_name] = self._md5_of_spec(spec)
+            self._check_closure(spec)
+            if self._parent is not None and self._type_inherited(spec.full_name):
+                self._md5[spec.full_name] = self._parent.md5sum(spec.full_name)
+            else:
+                self._md5[spec.full_name] = self._md5_of_spec(spec)
         return self._md5[spec.full_name]
 
     def full_text(self, type_name: str) -> str:
@@ -205,14 +363,23 @@ class MessageRegistry:
         spec = self.get_msg_spec(type_name)
         if spec.full_name not in self._full:
             self._check_closure(spec)
-            self._full[spec.full_name] = compute_full_text(spec, self.get_msg_spec)
+            if self._parent is not None and self._type_inherited(spec.full_name):
+                self._full[spec.full_name] = self._parent.full_text(spec.full_name)
+            else:
+                self._full[spec.full_name] = compute_full_text(spec, self.get_msg_spec)
         return self._full[spec.full_name]
+
+    def _srv_inherited(self, spec: SrvSpec) -> bool:
+        return (self._parent is not None and not self._holds(spec.full_name)
+                and self._inherits(spec.request) and self._inherits(spec.response))
 
     def srv_md5sum(self, type_name: str) -> str:
         """md5 of service ``pkg/Type`` (request text then response text)."""
         spec = self.get_srv_spec(type_name)
         self._check_closure(spec.request)
         self._check_closure(spec.response)
+        if self._parent is not None and self._srv_inherited(spec):
+            return self._parent.srv_md5sum(spec.full_name)
         return compute_srv_md5(spec, self.get_msg_spec, self._md5)
 
     # -- classes ---------------------------------------------------------------------------
@@ -225,7 +392,8 @@ class MessageRegistry:
         """The generated class of message ``pkg/Type``.
 
         As in genpy, ``time`` and ``duration`` give :class:`ddes.Time` and
-        :class:`ddes.Duration`.  Unknown types raise
+        :class:`ddes.Duration`.  A type this registry takes entirely from its
+        parent is the parent's class object.  Unknown types raise
         :class:`~ddes.errors.MsgNotFound` saying where ddes looked; a
         malformed definition raises :class:`~ddes.errors.InvalidMsgSpec`.
         """
@@ -237,7 +405,11 @@ class MessageRegistry:
         spec = self.get_msg_spec(type_name)
         cls = self._classes.get(spec.full_name)
         if cls is None:
-            cls = self._build(spec)
+            self._check_closure(spec)
+            if self._parent is not None and self._type_inherited(spec.full_name):
+                cls = self._parent.get_message_class(spec.full_name)
+            else:
+                cls = self._build(spec)
             self._classes[spec.full_name] = cls
         self._classes[type_name] = cls
         return cls
@@ -248,6 +420,12 @@ class MessageRegistry:
         if cls is not None:
             return cls
         spec = self.get_srv_spec(type_name)
+        self._check_closure(spec.request)
+        self._check_closure(spec.response)
+        if self._parent is not None and self._srv_inherited(spec):
+            cls = self._parent.get_service_class(spec.full_name)
+            self._srv_classes[type_name] = cls
+            return cls
         request = self._build(spec.request)
         response = self._build(spec.response)
         cls = cast("type[ServiceDefinition]", type(spec.short_name, (ServiceDefinition,), {
@@ -272,18 +450,34 @@ class MessageRegistry:
         return sorted(p.name[: -len(ext)] for p in sub.iterdir()
                       if p.is_file() and p.name.endswith(ext))
 
+    def _packages(self) -> list[str]:
+        """Every package name on the whole chain, sorted."""
+        names = set(self._rospack.list())
+        if self._parent is not None:
+            names.update(self._parent._packages())
+        return sorted(names)
+
     def list_types(self, package: str, kind: str = "msg") -> list[str]:
         """Full names of the ``kind`` ('msg', 'srv' or 'action') types of ``package``.
 
         Messages include the seven generated from each .action file (as a
-        built ROS workspace lists them), sorted by name.
+        built ROS workspace lists them), sorted by name.  A package this
+        registry does not hold is listed by its parent.
         """
         if kind not in _KIND_EXT:
-            raise ValueError(f"kind must be 'msg', 'srv' or 'action', not {kind!r}")
+            raise DdesValueError(f"kind must be 'msg', 'srv' or 'action', not {kind!r}")
+        if package not in self._rospack and self._parent is not None \
+                and self._parent._chain_has(package):
+            return self._parent.list_types(package, kind)
         try:
-            folder = self.rospack.get_path(package)
-        except PackageNotFound as exc:
-            raise MsgNotFound(str(exc)) from None
+            folder = self._rospack.get_path(package)
+        except PackageNotFound:
+            searched = ", ".join(str(p) for p in self.search_path) or "(empty path)"
+            raise MsgNotFound(
+                f"package '{package}' not found; searched: {searched}. Add its parent folder "
+                "to the package path: MessageRegistry(paths), World(package_path=[...]), or "
+                "DDES_PACKAGE_PATH read by MessageRegistry.from_environment()"
+            ) from None
         names = self._names_in(folder, kind)
         if kind == "msg":
             for action in self._names_in(folder, "action"):
@@ -292,42 +486,59 @@ class MessageRegistry:
         return [f"{package}/{n}" for n in names]
 
     def list_packages(self, kind: str = "msg") -> list[str]:
-        """Packages on the path that define ``kind`` types, sorted."""
-        return [p for p in self.rospack.list() if self.list_types(p, kind)]
+        """Packages on the path (this registry's and its parents') that define ``kind`` types."""
+        return [p for p in self._packages() if self.list_types(p, kind)]
 
     def iter_types(self, kind: str = "msg") -> Iterator[str]:
         """Every ``kind`` type on the path, by package then name."""
-        for pkg in self.rospack.list():
+        for pkg in self._packages():
             yield from self.list_types(pkg, kind)
 
     def find(self, base_type: str, kind: str = "msg") -> list[str]:
         """Full names ``pkg/base_type`` of every package defining ``base_type``."""
-        return [t for pkg in self.rospack.list() for t in self.list_types(pkg, kind)
+        return [t for pkg in self._packages() for t in self.list_types(pkg, kind)
                 if t.split("/", 1)[1] == base_type]
 
 
-@functools.lru_cache(maxsize=1)
-def default_registry() -> MessageRegistry:
-    """The process-wide registry: bundled packages plus ``DDES_PACKAGE_PATH``.
+_BUNDLED_LOCK = threading.Lock()
+_BUNDLED: MessageRegistry | None = None
 
-    Created on first use and kept; ``DDES_PACKAGE_PATH`` is read then.
+
+def default_registry() -> MessageRegistry:
+    """The shared, immutable registry of ddes's bundled packages (``ddes/packages``).
+
+    Built on first use (once, thread-safely) and kept for the life of the
+    process; it reads no environment variable.  It is the default parent of
+    every :class:`MessageRegistry`, so bundled types are one class object
+    everywhere.  Nothing can be added to it: build ``MessageRegistry(paths)``
+    (one per world) for your own packages.
     """
-    return MessageRegistry()
+    global _BUNDLED
+    registry = _BUNDLED
+    if registry is None:
+        with _BUNDLED_LOCK:
+            if _BUNDLED is None:
+                built = MessageRegistry(rospack=RosPack((), bundled=True), parent=None)
+                built._frozen = True
+                _BUNDLED = built
+            registry = _BUNDLED
+    return registry
 
 
 def get_message_class(type_name: str, registry: MessageRegistry | None = None) -> type[Message]:
     """The class of message ``pkg/Type`` (genpy/roslib ``get_message_class``).
 
     Unlike genpy, an unknown type raises :class:`~ddes.errors.MsgNotFound`
-    instead of returning None.
+    instead of returning None.  Without ``registry``, the bundled registry
+    (:func:`default_registry`) answers; it never reads the environment.
     """
-    return (registry or default_registry()).get_message_class(type_name)
+    return (default_registry() if registry is None else registry).get_message_class(type_name)
 
 
 def get_service_class(type_name: str,
                       registry: MessageRegistry | None = None) -> type[ServiceDefinition]:
     """The class of service ``pkg/Type`` (genpy/roslib ``get_service_class``)."""
-    return (registry or default_registry()).get_service_class(type_name)
+    return (default_registry() if registry is None else registry).get_service_class(type_name)
 
 
 def parse_definition(type_name: str, full_text: str) -> list[MsgSpec]:
@@ -350,7 +561,10 @@ def parse_definition(type_name: str, full_text: str) -> list[MsgSpec]:
 
 @functools.lru_cache(maxsize=256)
 def _definition_class(type_name: str, full_text: str) -> type[Message]:
-    registry = MessageRegistry(rospack=RosPack((), use_env=False, bundled=False))
+    # A private registry with no package path and no parent: every spec comes
+    # from the text, so the class depends on (type_name, full_text) only and
+    # may be shared by every registry (see the module docstring).
+    registry = MessageRegistry(rospack=RosPack((), bundled=False), parent=None)
     for spec in parse_definition(type_name, full_text):
         registry.add_msg_spec(spec)
     return registry.get_message_class(type_name)
@@ -364,7 +578,9 @@ def message_class_from_definition(type_name: str, full_text: str, *,
     package path.  With ``registry``, the registry's own class is returned
     when it knows the type with the same md5 sum, so messages read from a
     bag compare equal to (and are instances of) the registry's classes.
-    Built classes are cached by ``(type_name, full_text)``.
+    Built classes are cached by ``(type_name, full_text)``; they depend on
+    nothing else (no package path), so the cache is shared safely by all
+    registries.
     """
     cls = _definition_class(type_name, full_text)
     if registry is not None:
@@ -378,7 +594,11 @@ def message_class_from_definition(type_name: str, full_text: str, *,
 
 
 def _rebuild_message(type_name: str, full_text: str, state: list[Any]) -> Message:
-    """Unpickle helper: rebuild a message from its type, definition and field values."""
+    """Unpickle helper: rebuild a message from its type, definition and field values.
+
+    A pickle does not say which world it came from: bundled types come back
+    as the bundled (shared) classes, others as classes of their definition.
+    """
     cls = message_class_from_definition(type_name, full_text, registry=default_registry())
     msg = object.__new__(cls)
     msg.__setstate__(state)

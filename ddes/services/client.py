@@ -136,7 +136,7 @@ class ServiceProxy:
             if not conn.ready:
                 conn.waiting.append(call)  # the request leaves once the header exchange is done
             else:
-                self._send_request(conn, call, world.env._now)  # type: ignore[arg-type]
+                self._send_request(conn, call, world.env.now)  # type: ignore[arg-type]
             return call
         entry = world.master.lookup_service(name)
         if entry is None:
@@ -161,14 +161,14 @@ class ServiceProxy:
 
     def _on_header(self, ev: Any) -> None:
         """The connection header reached the server: accepted or refused."""
-        conn, server = ev._value
+        conn, server = ev.value
         if conn.closed:
             return  # the client gave up before connecting
         waiting = [call for call in conn.waiting if not call.done]
         conn.waiting = []
         error = server._accept(conn)
         back = conn.link.sample()
-        now: int = self.world.env._now  # type: ignore[assignment]
+        now: int = self.world.env.now
         if error is not None:
             conn.closed = True
             if self._transport is conn:
@@ -180,7 +180,7 @@ class ServiceProxy:
             self._send_request(conn, call, now + back)
 
     def _on_refused(self, ev: Any) -> None:
-        waiting, error = ev._value
+        waiting, error = ev.value
         for call in waiting:
             if not call.done:
                 call.fail("connect", ServiceException(f"unable to connect to service: {error}"))
@@ -188,7 +188,7 @@ class ServiceProxy:
     def _send_request(self, conn: ServiceConnection, call: PendingCall, sent_at: int) -> None:
         """The request leaves the client at ``sent_at`` (FIFO per connection)."""
         call.sent_at = sent_at
-        now: int = self.world.env._now  # type: ignore[assignment]
+        now: int = self.world.env.now
         at = sent_at + conn.link.sample()
         if at < conn.last_request:
             at = conn.last_request
@@ -196,14 +196,14 @@ class ServiceProxy:
         post(self.world.env, at - now, (conn, call), self._on_request)
 
     def _on_request(self, ev: Any) -> None:
-        conn, call = ev._value
+        conn, call = ev.value
         if 0 <= call.gave_up_at < call.sent_at:
             return  # the client gave up before the request was sent
         conn.server._on_request(conn, call)
 
     def _send_response(self, conn: ServiceConnection, call: PendingCall, ok: bool, payload: Any) -> None:
         """Called by the server: the response (or error text) travels back."""
-        now: int = self.world.env._now  # type: ignore[assignment]
+        now: int = self.world.env.now
         at = now + conn.link.sample()
         if at < conn.last_response:
             at = conn.last_response
@@ -211,11 +211,11 @@ class ServiceProxy:
         post(self.world.env, at - now, (call, ok, payload), self._on_response)
 
     def _on_response(self, ev: Any) -> None:
-        call, ok, payload = ev._value
+        call, ok, payload = ev.value
         if call.done:
             call.stats.discarded += 1
             world = self.world
-            world.trace.record_fast((world.env._now, "service.discard", self.node.name,
+            world.trace.append_row((world.env.now, "service.discard", self.node.name,
                                      _DISCARD_KEYS, self.resolved_name, call.id, self.node.name,
                                      "client gave up"))
             return
@@ -233,14 +233,14 @@ class ServiceProxy:
         post(self.world.env, conn.link.sample(), call, self._on_transport_error)
 
     def _on_transport_error(self, ev: Any) -> None:
-        call = ev._value
+        call = ev.value
         if not call.done:
             call.fail("transport", ServiceException(_TRANSPORT_ERROR))
 
     def _expire(self, call: PendingCall, ns: int) -> None:
         if call.done:
             return
-        call.gave_up_at = self.world.env._now  # type: ignore[assignment]
+        call.gave_up_at = self.world.env.now
         conn = call.conn
         call.fail("timeout", ServiceTimeout(
             f"service [{self.resolved_name}] call timed out after {ns / 1e9:g} s of ROS time "
@@ -275,12 +275,12 @@ class ServiceProxy:
         if conn is not None and not conn.closed:
             conn.close()
             for call in self._calls_on(conn):
-                call.gave_up_at = self.world.env._now  # type: ignore[assignment]
+                call.gave_up_at = self.world.env.now
                 call.fail("transport", ServiceException(_TRANSPORT_ERROR))
 
     def shutdown(self) -> None:
         """The node shut down: pending calls fail with ROSInterruptException."""
-        now: int = self.world.env._now  # type: ignore[assignment]
+        now: int = self.world.env.now
         for call in list(self._pending.values()):
             if not call.done:
                 call.gave_up_at = now

@@ -99,7 +99,7 @@ class PendingCall:
         self.proxy = proxy
         self.event = event
         self.data = data
-        self.t0: int = world.env._now  # type: ignore[assignment]
+        self.t0: int = world.env.now
         self.conn: ServiceConnection | None = None
         self.done = False
         #: Kernel time the client stopped waiting (timeout, shutdown), or -1.
@@ -116,10 +116,10 @@ class PendingCall:
         trace = proxy.world.trace
         if trace.enabled:
             snapshot = _snapshot(request, self.data)
-            trace.record_fast((self.t0, "service.call", proxy.node.name, _CALL_KEYS,
+            trace.append_row((self.t0, "service.call", proxy.node.name, _CALL_KEYS,
                                proxy.resolved_name, self.id, proxy.persistent, snapshot))
         else:
-            trace.record_fast((self.t0, "service.call", proxy.node.name, _CALL_KEYS))
+            trace.append_row((self.t0, "service.call", proxy.node.name, _CALL_KEYS))
 
     def succeed(self, data: bytes) -> None:
         """The response arrived: deserialize the client's copy and wake the caller."""
@@ -129,15 +129,15 @@ class PendingCall:
         cls = proxy.response_class
         response = cls.__new__(cls)._deserialize_from(data)
         world = proxy.world
-        now: int = world.env._now  # type: ignore[assignment]
+        now: int = world.env.now
         latency = now - self.t0
         self.stats.add_latency(latency)
         trace = world.trace
         if trace.enabled:
-            trace.record_fast((now, "service.response", proxy.node.name, _RESPONSE_KEYS,
+            trace.append_row((now, "service.response", proxy.node.name, _RESPONSE_KEYS,
                                proxy.resolved_name, self.id, latency, _snapshot(response, data)))
         else:
-            trace.record_fast((now, "service.response", proxy.node.name, _RESPONSE_KEYS))
+            trace.append_row((now, "service.response", proxy.node.name, _RESPONSE_KEYS))
         self.event.succeed(response)
 
     def fail(self, reason: str, exc: Exception) -> None:
@@ -147,8 +147,8 @@ class PendingCall:
         proxy._pending.pop(self.id, None)
         self.stats.errors[reason] += 1
         world = proxy.world
-        now: int = world.env._now  # type: ignore[assignment]
-        world.trace.record_fast((now, "service.error", proxy.node.name, _ERROR_KEYS,
+        now: int = world.env.now
+        world.trace.append_row((now, "service.error", proxy.node.name, _ERROR_KEYS,
                                  proxy.resolved_name, self.id, now - self.t0, reason, str(exc)))
         self.event.fail(exc)
 

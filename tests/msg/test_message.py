@@ -11,6 +11,7 @@ import pytest
 from ddes import Duration, Time
 from ddes.errors import DdesAttributeError, DdesTypeError
 from ddes.msg import Message, MessageRegistry, get_message_class, get_service_class
+from ddes.rospack import BUNDLED_PATH
 
 String = get_message_class("std_msgs/String")
 Header = get_message_class("std_msgs/Header")
@@ -105,13 +106,14 @@ def test_equality() -> None:
 
 
 def test_equality_across_classes_of_same_type(tmp_path: Path) -> None:
-    other = MessageRegistry(use_env=False).get_message_class("geometry_msgs/Point")
+    # a registry of its own over the bundled folder (no parent) builds its own classes
+    other = MessageRegistry([BUNDLED_PATH], parent=None).get_message_class("geometry_msgs/Point")
     assert other is not Point
     assert other(1, 2, 3) == Point(1, 2, 3)
     (tmp_path / "geometry_msgs" / "msg").mkdir(parents=True)
     (tmp_path / "geometry_msgs" / "msg" / "Point.msg").write_text("float64 x\nfloat64 y\n"
                                                                    "float32 z\n")
-    changed = MessageRegistry([tmp_path], use_env=False).get_message_class("geometry_msgs/Point")
+    changed = MessageRegistry([tmp_path]).get_message_class("geometry_msgs/Point")
     assert changed(1, 2, 3) != Point(1, 2, 3)
 
 
@@ -191,13 +193,12 @@ def test_action_messages_match_genaction() -> None:
 def test_python_keyword_fields_are_remapped(tmp_path: Path) -> None:
     (tmp_path / "kw" / "msg").mkdir(parents=True)
     (tmp_path / "kw" / "msg" / "K.msg").write_text("int32 from\nstring self\nint32 IF=1\n")
-    K = MessageRegistry([tmp_path], use_env=False).get_message_class("kw/K")
+    K = MessageRegistry([tmp_path]).get_message_class("kw/K")
     assert K.__slots__ == ("from_", "self_")
     k = K(from_=3, self_="s")
     assert (k.from_, k.self_) == (3, "s")
     assert K.IF == 1
-    assert "from" in K._full_text and K._md5sum == MessageRegistry(
-        [tmp_path], use_env=False).md5sum("kw/K")
+    assert "from" in K._full_text and K._md5sum == MessageRegistry([tmp_path]).md5sum("kw/K")
 
 
 def test_generated_source_is_kept_for_inspection() -> None:

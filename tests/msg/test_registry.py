@@ -46,7 +46,7 @@ def user_path(tmp_path: Path) -> Path:
 
 @pytest.fixture
 def registry(user_path: Path) -> MessageRegistry:
-    return MessageRegistry([user_path], use_env=False)
+    return MessageRegistry([user_path])
 
 
 def test_user_package_message(registry: MessageRegistry, user_path: Path) -> None:
@@ -142,14 +142,18 @@ def test_malformed_file_names_path(registry: MessageRegistry, user_path: Path) -
 
 def test_first_package_on_path_wins(tmp_path: Path) -> None:
     _write(tmp_path, "std_msgs/msg/String.msg", "int32 data\n")
-    shadowed = MessageRegistry([tmp_path], use_env=False)
+    shadowed = MessageRegistry([tmp_path])
     assert shadowed.get_message_class("std_msgs/String")().data == 0
     assert get_message_class("std_msgs/String")().data == ""
 
 
-def test_env_path_and_no_bundled(user_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_env_path_only_when_asked_and_no_bundled(user_path: Path,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("DDES_PACKAGE_PATH", str(user_path))
-    assert MessageRegistry().get_message_class("my_pkg/Bar")._type == "my_pkg/Bar"
+    with pytest.raises(MsgNotFound, match=r"unknown package \[my_pkg\]"):
+        MessageRegistry().get_message_class("my_pkg/Bar")
+    assert MessageRegistry(use_env=True).get_message_class("my_pkg/Bar")._type == "my_pkg/Bar"
+    assert MessageRegistry.from_environment().get_message_class("my_pkg/Bar")._type == "my_pkg/Bar"
     bare = MessageRegistry(use_env=False, bundled=False)
     with pytest.raises(MsgNotFound, match=r"\(empty path\)"):
         bare.get_message_class("std_msgs/String")
