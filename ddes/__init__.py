@@ -53,7 +53,6 @@ from ddes.time import (
 )
 from ddes.world import Console, Node, World
 
-
 __all__ = [
     "ActionClient",
     "ActionServer",

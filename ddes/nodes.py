@@ -24,16 +24,23 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import GeneratorType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Union
 
 from ddes.errors import DdesError
 
 if TYPE_CHECKING:
+    import simpy
+    from simpy.events import ProcessGenerator
+
     from ddes.graph.node import Node
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
-__all__ = ["NodeType", "NodeTypeNotFound", "load_node_types", "start_node"]
+__all__ = ["NodeMain", "NodeType", "NodeTypeNotFound", "load_node_types", "start_node"]
+
+#: A node type's ``main(node)``: a plain function (set up, then spin) or a generator function
+#: (the main loop; it may return an int exit code).
+NodeMain = Callable[["Node"], Union["ProcessGenerator", None]]
 
 
 class NodeTypeNotFound(DdesError):
@@ -44,7 +51,7 @@ class NodeTypeNotFound(DdesError):
 class NodeType:
     """A runnable node: its main function and the name it registers by default."""
 
-    main: Callable[[Node], Any]
+    main: NodeMain
     name: str
     anonymous: bool = False
     log_style: str = "rospy"
@@ -98,7 +105,7 @@ def start_node(
     if type(result) is GeneratorType:
         proc = node.process(result)
 
-        def finished(ev: Any) -> None:
+        def finished(ev: simpy.Event) -> None:
             if ev.ok:
                 code = ev.value if isinstance(ev.value, int) else 0
                 world.record("node.exit", node.name, code=code)

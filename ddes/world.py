@@ -13,7 +13,7 @@ object can go anywhere.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 from ddes.console.shell import Console as _Console
 from ddes.graph.node import Node as _Node
@@ -22,14 +22,28 @@ from ddes.msg.message import ServiceDefinition
 from ddes.services.network import DEFAULT_SERVICE_LATENCY, ServiceNetwork, network_of
 from ddes.services.server import Service
 
-__all__ = ["Console", "Node", "World"]
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
+    from ddes.graph.topics import LinkLatency
+
+__all__ = ["Console", "Node", "ServiceOptions", "World"]
+
+
+class ServiceOptions(TypedDict, total=False):
+    """The keyword arguments ``node.advertise_service(...)`` passes on to :class:`ddes.Service`."""
+
+    buff_size: int
+    error_handler: Callable[..., object] | None
+    style: str
 
 
 class Node(_Node):
     """A ROS node (:class:`ddes.graph.node.Node`) with the roscpp-style service aliases."""
 
     def advertise_service(self, name: str, service_class: type[ServiceDefinition],
-                          handler: Callable[..., Any], **kwargs: Any) -> Service:
+                          handler: Callable[..., object],
+                          **kwargs: Unpack[ServiceOptions]) -> Service:
         """roscpp's ``advertiseService``: the same as ``ddes.Service(node, name, ...)``.
 
         ``style="roscpp"`` for ``handler(req, resp) -> bool`` callbacks.
@@ -51,7 +65,7 @@ class World(_World):
         return network_of(self)
 
     def set_service_link(self, service: str | None = None, *, client: str | None = None,
-                         latency: Any = DEFAULT_SERVICE_LATENCY) -> None:
+                         latency: LinkLatency = DEFAULT_SERVICE_LATENCY) -> None:
         """Set the one-way latency of service messages (default 0.1 ms; see ddes.services.network)."""
         network_of(self).set_link(service, client=client, latency=latency)
 

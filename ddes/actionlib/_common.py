@@ -7,7 +7,10 @@
   defaults and its rule that a negative value means the default;
 * :func:`run_user_callbacks` calls user callbacks, so a callback that is a
   generator (it ``yield``\\ s simulated time) runs as part of the node's
-  callback, as a slow callback does in ROS;
+  callback, as a slow callback does in ROS: the subscriber or timer callback
+  that called it returns the generator, and the node's callback runner
+  (:meth:`ddes.graph.callbacks.CallbackQueue.run`) holds the spinner until it
+  ends;
 * :func:`misuse` logs a misuse with ROS's text and records it as an
   ``action.misuse`` trace event, so a grader can count it.
 """
@@ -17,34 +20,34 @@ from __future__ import annotations
 from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass
 from types import GeneratorType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias, cast
+
+import simpy
 
 from ddes.actionlib.goal_id import GoalIdGenerator, GoalIdStamp, GoalIdStyle
 from ddes.errors import ROSActionException
 from ddes.graph.rosout import ERROR, WARN
-from ddes.time.rostime import Time
+from ddes.msg.message import Message
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
 
 __all__ = [
     "ActionTypes",
+    "CallbackChain",
+    "CallbackGenerator",
     "NodeGoalIds",
+    "UserCall",
     "check_message",
     "misuse",
-    "new_time",
     "queue_size_param",
     "run_user_callbacks",
 ]
 
-_NS = 1_000_000_000
-
-
-def new_time(ns: int) -> Time:
-    """A :class:`Time` from integer nanoseconds (fast path, no validation)."""
-    t = Time.__new__(Time)
-    t.secs, t.nsecs = divmod(ns, _NS)
-    return t
+#: The rest of a callback that takes simulated time: a generator of events to wait for.
+CallbackGenerator: TypeAlias = Generator[simpy.Event, Any, None]
+#: One user callback to call and its arguments (a None callback is skipped).
+UserCall: TypeAlias = "tuple[Callable[..., object] | None, tuple[object, ...]]"
 
 
 class NodeGoalIds(GoalIdGenerator):
@@ -63,9 +66,9 @@ class NodeGoalIds(GoalIdGenerator):
         self._world = node.world
         self._key = f"actionlib.goal_id.{style.value}:{node.name}"
 
-    def generate_id(self, now: int | Time) -> GoalIdStamp:
+    def generate_id(self, now_ns: int) -> GoalIdStamp:
         self._count = self._world.next_id(self._key) - 1
-        return super().generate_id(now)
+        return super().generate_id(now_ns)
 
 
 @dataclass(frozen=True)
@@ -78,17 +81,18 @@ class ActionTypes:
     ``"Type is not an action spec: ..."``.
     """
 
-    spec: Any
-    action_goal: Any
-    action_result: Any
-    action_feedback: Any
-    goal: Any
-    result: Any
-    feedback: Any
+    spec: type[Message]
+    action_goal: type[Message]
+    action_result: type[Message]
+    action_feedback: type[Message]
+    goal: type[Message]
+    result: type[Message]
+    feedback: type[Message]
 
     @classmethod
-    def of(cls, spec: Any) -> ActionTypes:
-        """The types of ``spec`` (a ``FooAction`` class or ``"pkg/FooAction"``)."""
+    def of(cls, spec: object) -> ActionTypes:
+        """The types of ``spec`` (a ``FooAction`` class or ``"pkg/FooAction"``; anything else
+        raises)."""
         if isinstance(spec, str):
             from ddes.msg import get_message_class
 
@@ -100,9 +104,10 @@ class ActionTypes:
                     "FooAction class, e.g. get_message_class('actionlib_tutorials/FibonacciAction')"
                 ) from None
         try:
-            a = spec()
+            action = cast("type[Message]", spec)  # whatever it is: a failure below says so
+            a = action()
             ag, ar, af = a.action_goal, a.action_result, a.action_feedback
-            types = cls(spec, type(ag), type(ar), type(af), type(ag.goal), type(ar.result),
+            types = cls(action, type(ag), type(ar), type(af), type(ag.goal), type(ar.result),
                         type(af.feedback))
         except Exception:  # noqa: BLE001 - rospy catches AttributeError; any failure means the same
             raise ROSActionException(
@@ -118,7 +123,7 @@ class ActionTypes:
         return t[: -len("Action")] if t.endswith("Action") else t
 
 
-def check_message(value: Any, cls: Any, what: str, fix: str) -> None:
+def check_message(value: object, cls: type[Message], what: str, fix: str) -> None:
     """Raise ROSActionException unless ``value`` is a ``cls`` message (same type and md5)."""
     if getattr(value, "_type", None) == cls._type and getattr(value, "_md5sum", None) == cls._md5sum:
         return
@@ -141,41 +146,63 @@ def queue_size_param(node: Node, name: str, default: int) -> int | None:
     return value
 
 
-def run_user_callbacks(calls: Iterable[tuple[Callable[..., Any] | None, tuple[Any, ...]]]
-                       ) -> Generator[Any, Any, None] | None:
-    """Call each ``fn(*args)`` in order; generator results are chained.
+class CallbackChain:
+    """User callbacks called in order, as one callback of the node.
+
+    :meth:`call` calls a callback at once, until one of them turns out to be
+    a generator (it takes simulated time); from then on the later ones wait
+    for it.  :meth:`rest` is None if everything finished, else the generator
+    that runs what is left, one after the other: the node's callback that
+    made the calls returns it, and the callback runner holds the spinner
+    until it ends.
+    """
+
+    __slots__ = ("_pending",)
+
+    def __init__(self) -> None:
+        self._pending: list[Generator[simpy.Event, Any, object]] = []
+
+    def call(self, fn: Callable[..., object] | None, *args: object) -> None:
+        """Call ``fn(*args)`` now, or after the generator callbacks before it (None: skip)."""
+        if fn is None:
+            return
+        if self._pending:
+            self._pending.append(_deferred(fn, args))
+            return
+        result = fn(*args)
+        if type(result) is GeneratorType:
+            self._pending.append(result)
+
+    def rest(self) -> CallbackGenerator | None:
+        """What is left to run (None: nothing, every callback finished at once)."""
+        return _chain(self._pending) if self._pending else None
+
+
+def run_user_callbacks(calls: Iterable[UserCall]) -> CallbackGenerator | None:
+    """Call each ``fn(*args)`` in order (see :class:`CallbackChain`); what is left, or None.
 
     Returns None when every callback finished at once; otherwise a generator
     that runs the generator callbacks one after the other (the node runs it
     as the rest of the current callback, so it takes simulated time).
     """
-    pending: list[Generator[Any, Any, Any]] = []
+    chain = CallbackChain()
     for fn, args in calls:
-        if fn is None:
-            continue
-        if pending:
-            pending.append(_deferred(fn, args))
-            continue
-        result = fn(*args)
-        if type(result) is GeneratorType:
-            pending.append(result)
-    if not pending:
-        return None
-    return _chain(pending)
+        chain.call(fn, *args)
+    return chain.rest()
 
 
-def _deferred(fn: Callable[..., Any], args: tuple[Any, ...]) -> Generator[Any, Any, None]:
+def _deferred(fn: Callable[..., object], args: tuple[object, ...]) -> CallbackGenerator:
     result = fn(*args)
     if type(result) is GeneratorType:
         yield from result
 
 
-def _chain(gens: list[Generator[Any, Any, Any]]) -> Generator[Any, Any, None]:
+def _chain(gens: list[Generator[simpy.Event, Any, object]]) -> CallbackGenerator:
     for gen in gens:
         yield from gen
 
 
-def misuse(node: Node, ns: str, text: str, *, level: int = ERROR, **details: Any) -> None:
+def misuse(node: Node, ns: str, text: str, *, level: int = ERROR, **details: object) -> None:
     """Log ``text`` as ROS does (``logerr``/``logwarn``) and record ``action.misuse``."""
     node.world.record("action.misuse", node.name, ns=ns, level="WARN" if level == WARN else "ERROR",
                       text=text, **details)

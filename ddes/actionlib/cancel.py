@@ -3,11 +3,14 @@
 This is ``actionlib/action_server.py`` (``internal_goal_callback``,
 ``internal_cancel_callback``, ``publish_status``) and the goal-handle calls of
 ``server_goal_handle.py``, without topics, threads or clocks.  The state is an
-immutable :class:`ServerGoals` (the status list, ``last_cancel`` and the
-``status_list_timeout``); each function takes it and the current time and
+immutable :class:`ServerGoals` (the status list, ``last_cancel_ns`` and the
+``status_list_timeout_ns``); each function takes it and the current time and
 returns the new state plus what ROS would publish, in ROS's order
 (:class:`Publication`).  A server built on top only forwards those
 publications to its topics and runs the user callbacks the outcome names.
+Every time here is an ``int`` of nanoseconds, in a parameter or field named
+``*_ns`` (``now_ns``, ``stamp_ns``); convert a ``Time`` or seconds with
+:mod:`ddes.time.units`.
 
 The cancel policy (``internal_cancel_callback``): a tracked goal is cancelled
 when the request is (id ``""``, stamp 0) (everything), names its id, or has a
@@ -33,8 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from enum import Enum
 
-from ddes.actionlib._nanos import duration_ns, time_ns
-from ddes.actionlib.goal_id import GoalIdGenerator
+from ddes.actionlib.goal_id import GoalIdGenerator, check_ns
 from ddes.actionlib.states import (
     TERMINAL_STATUSES,
     GoalStatus,
@@ -43,7 +45,6 @@ from ddes.actionlib.states import (
     server_transition,
 )
 from ddes.errors import DdesKeyError, DdesTypeError, DdesValueError
-from ddes.time.rostime import Duration, Time
 
 __all__ = [
     "CANCELED_BY_STAMP_TEXT",
@@ -88,15 +89,15 @@ UNINITIALIZED_GOAL_ID_TEXT = "Attempt to get a goal id on an uninitialized Serve
 
 @dataclass(frozen=True)
 class CancelRequest:
-    """An ``actionlib_msgs/GoalID`` received on ``<ns>/cancel`` (stamp in int ns)."""
+    """An ``actionlib_msgs/GoalID`` received on ``<ns>/cancel`` (its stamp in int ns)."""
 
     id: str = ""
-    stamp: int = 0
+    stamp_ns: int = 0
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str):
             raise DdesTypeError(f"cancel request id must be a str, got {self.id!r}")
-        object.__setattr__(self, "stamp", time_ns(self.stamp, "cancel request stamp"))
+        check_ns(self.stamp_ns, "cancel request stamp_ns")
 
     @classmethod
     def all(cls) -> CancelRequest:
@@ -109,49 +110,48 @@ class CancelRequest:
         return cls(goal_id, 0)
 
     @classmethod
-    def at_and_before(cls, stamp: int | Time) -> CancelRequest:
-        """``cancel_goals_at_and_before_time(t)``: id ``""``, stamp ``t``."""
-        return cls("", time_ns(stamp, "cancel stamp"))
+    def at_and_before(cls, stamp_ns: int) -> CancelRequest:
+        """``cancel_goals_at_and_before_time(t)``: id ``""``, stamp ``t`` (int ns)."""
+        return cls("", check_ns(stamp_ns, "cancel stamp_ns"))
 
     @property
     def cancels_everything(self) -> bool:
         """True for the cancel-all request (id ``""`` and stamp 0)."""
-        return self.id == "" and self.stamp == 0
+        return self.id == "" and self.stamp_ns == 0
 
 
 @dataclass(frozen=True)
 class GoalTracker:
     """One entry of the server's status list (actionlib's ``StatusTracker``).
 
-    ``has_goal`` is False for a cancel placeholder (ROS: ``tracker.goal is
-    None``); ``has_handle`` mirrors ROS's ``handle_tracker is not None``.
-    ``destruction_time`` is int ns, 0 meaning "not set" (ROS's ``Time()``).
+    ``stamp_ns`` is the goal id's stamp (int ns).  ``has_goal`` is False for
+    a cancel placeholder (ROS: ``tracker.goal is None``); ``has_handle``
+    mirrors ROS's ``handle_tracker is not None``.  ``destruction_time_ns`` is
+    int ns, 0 meaning "not set" (ROS's ``Time()``).
     ``serial`` tells entries apart as ROS's object identity does (the functions
     here number the entries they create 1, 2, ... per :class:`ServerGoals`).
     """
 
     goal_id: str
-    stamp: int
+    stamp_ns: int
     status: GoalStatus
     text: str = ""
     has_goal: bool = True
     has_handle: bool = True
-    destruction_time: int = 0
+    destruction_time_ns: int = 0
     serial: int = 0
 
     def __post_init__(self) -> None:
         if not isinstance(self.goal_id, str):
             raise DdesTypeError(f"goal id must be a str, got {self.goal_id!r}")
-        object.__setattr__(self, "stamp", time_ns(self.stamp, "goal stamp"))
+        check_ns(self.stamp_ns, "goal stamp_ns")
         try:
             object.__setattr__(self, "status", GoalStatus(self.status))
         except ValueError:
             raise DdesValueError(
                 f"goal status {self.status!r} is not a GoalStatus (0..9)"
             ) from None
-        object.__setattr__(
-            self, "destruction_time", time_ns(self.destruction_time, "destruction time")
-        )
+        check_ns(self.destruction_time_ns, "destruction_time_ns")
 
     @property
     def is_placeholder(self) -> bool:
@@ -161,28 +161,24 @@ class GoalTracker:
 
 @dataclass(frozen=True)
 class ServerGoals:
-    """The server's bookkeeping: the status list in order, ``last_cancel`` (ns),
-    ``status_list_timeout`` (ns, default 5 s) and ``created``, the number of
+    """The server's bookkeeping: the status list in order, ``last_cancel_ns``,
+    ``status_list_timeout_ns`` (default 5 s) and ``created``, the number of
     entries ever created (the last serial handed out)."""
 
     trackers: tuple[GoalTracker, ...] = ()
-    last_cancel: int = 0
-    status_list_timeout: int = STATUS_LIST_TIMEOUT_NS
+    last_cancel_ns: int = 0
+    status_list_timeout_ns: int = STATUS_LIST_TIMEOUT_NS
     created: int = 0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "trackers", tuple(self.trackers))
-        object.__setattr__(self, "last_cancel", time_ns(self.last_cancel, "last_cancel"))
-        object.__setattr__(
-            self,
-            "status_list_timeout",
-            duration_ns(self.status_list_timeout, "status_list_timeout"),
-        )
+        check_ns(self.last_cancel_ns, "last_cancel_ns")
+        check_ns(self.status_list_timeout_ns, "status_list_timeout_ns", instant=False)
 
     @classmethod
-    def create(cls, status_list_timeout: int | Duration = STATUS_LIST_TIMEOUT_NS) -> ServerGoals:
-        """An empty status list with the given ``status_list_timeout``."""
-        return cls((), 0, duration_ns(status_list_timeout, "status_list_timeout"), 0)
+    def create(cls, status_list_timeout_ns: int = STATUS_LIST_TIMEOUT_NS) -> ServerGoals:
+        """An empty status list with the given ``status_list_timeout_ns``."""
+        return cls((), 0, status_list_timeout_ns, 0)
 
     def find(self, goal_id: str) -> GoalTracker | None:
         """The first entry with ``goal_id`` (as ROS's list scans find it), or None."""
@@ -206,27 +202,28 @@ class PublicationTopic(str, Enum):
 
 @dataclass(frozen=True)
 class Publication:
-    """One message the server publishes: a status array or a result (``header.stamp``).
+    """One message the server publishes: a status array or a result.
 
-    ``statuses`` is the status array's list, or the one status of a result.
+    ``stamp_ns`` is its ``header.stamp``; ``statuses`` is the status array's
+    list, or the one status of a result.
     """
 
     topic: PublicationTopic
-    stamp: int
+    stamp_ns: int
     statuses: tuple[GoalTracker, ...]
 
 
-def is_expired(tracker: GoalTracker, now: int, status_list_timeout: int) -> bool:
+def is_expired(tracker: GoalTracker, now_ns: int, status_list_timeout_ns: int) -> bool:
     """ROS's pruning test: ``destruction_time != 0 and destruction_time + timeout < now``."""
-    t = tracker.destruction_time
-    return t != 0 and t + status_list_timeout < now
+    t = tracker.destruction_time_ns
+    return t != 0 and t + status_list_timeout_ns < now_ns
 
 
 def cancel_matches(request: CancelRequest, tracker: GoalTracker) -> bool:
     """Whether ``request`` cancels ``tracker`` (the three tests of ``internal_cancel_callback``)."""
-    everything = request.id == "" and request.stamp == 0
+    everything = request.id == "" and request.stamp_ns == 0
     this_one = request.id == tracker.goal_id
-    before_stamp = request.stamp != 0 and tracker.stamp <= request.stamp
+    before_stamp = request.stamp_ns != 0 and tracker.stamp_ns <= request.stamp_ns
     return everything or this_one or before_stamp
 
 
@@ -234,11 +231,11 @@ class _Book:
     """A mutable working copy for one call: entries are boxes, so a pruned entry still
     seen by a loop over an earlier copy keeps being updated, as ROS's objects are."""
 
-    def __init__(self, goals: ServerGoals, now: int) -> None:
+    def __init__(self, goals: ServerGoals, now_ns: int) -> None:
         self.boxes: list[list[GoalTracker]] = [[t] for t in goals.trackers]
-        self.now = now
-        self.timeout = goals.status_list_timeout
-        self.last_cancel = goals.last_cancel
+        self.now_ns = now_ns
+        self.timeout_ns = goals.status_list_timeout_ns
+        self.last_cancel_ns = goals.last_cancel_ns
         self.created = goals.created
         self.publications: list[Publication] = []
         self.removed: list[GoalTracker] = []
@@ -247,21 +244,22 @@ class _Book:
     def publish_status(self) -> None:
         kept = []
         for box in self.boxes:
-            if is_expired(box[0], self.now, self.timeout):
+            if is_expired(box[0], self.now_ns, self.timeout_ns):
                 self.removed.append(box[0])
             else:
                 kept.append(box)
         self.boxes = kept
         entries = tuple(box[0] for box in self.boxes)
-        self.publications.append(Publication(PublicationTopic.STATUS, self.now, entries))
+        self.publications.append(Publication(PublicationTopic.STATUS, self.now_ns, entries))
 
     def publish_result(self, tracker: GoalTracker) -> None:
-        self.publications.append(Publication(PublicationTopic.RESULT, self.now, (tracker,)))
+        self.publications.append(Publication(PublicationTopic.RESULT, self.now_ns, (tracker,)))
         self.publish_status()
 
     def goals(self, template: ServerGoals) -> ServerGoals:
         trackers = tuple(b[0] for b in self.boxes)
-        return ServerGoals(trackers, self.last_cancel, template.status_list_timeout, self.created)
+        return ServerGoals(trackers, self.last_cancel_ns, template.status_list_timeout_ns,
+                           self.created)
 
     def serial(self) -> int:
         self.created += 1
@@ -285,7 +283,7 @@ class _Book:
             box[0] = replace(t, status=tr.after)
             self.publish_status()
         elif tr.after in TERMINAL_STATUSES:
-            box[0] = replace(t, status=tr.after, text=text, destruction_time=self.now)
+            box[0] = replace(t, status=tr.after, text=text, destruction_time_ns=self.now_ns)
             self.publish_result(box[0])
         else:
             box[0] = replace(t, status=tr.after, text=text)
@@ -368,8 +366,8 @@ class StatusOutcome:
 def receive_goal(
     goals: ServerGoals,
     goal_id: str,
-    stamp: int | Time,
-    now: int | Time,
+    stamp_ns: int,
+    now_ns: int,
     ids: GoalIdGenerator,
 ) -> GoalOutcome:
     """A goal message (``goal_id.id``, ``goal_id.stamp``) arrives (``internal_goal_callback``).
@@ -378,7 +376,7 @@ def receive_goal(
       RECALLING entry becomes RECALLED (an empty result is published); an
       entry without a handle (a placeholder) gets ``destruction_time = now``.
     * Otherwise the goal is tracked as PENDING.  An empty id is replaced by
-      ``ids.generate_id(now)`` (whose stamp is now); a zero stamp becomes now.
+      ``ids.generate_id(now_ns)`` (whose stamp is now); a zero stamp becomes now.
     * The goal is cancelled at once when its stamp is nonzero and
       ``<= last_cancel``.  As in rospy the stamp tested is the one tracked for
       a given id (a zero stamp already replaced by now), but the message's
@@ -386,8 +384,8 @@ def receive_goal(
     """
     if not isinstance(goal_id, str):
         raise DdesTypeError(f"goal id must be a str, got {goal_id!r}")
-    stamp_ns = time_ns(stamp, "goal stamp")
-    now_ns = time_ns(now, "now")
+    check_ns(stamp_ns, "goal stamp_ns")
+    check_ns(now_ns, "now_ns")
     book = _Book(goals, now_ns)
     for box in list(book.boxes):
         t = box[0]
@@ -399,17 +397,17 @@ def receive_goal(
             arrival = GoalArrival.DUPLICATE_RECALLED
             book.publish_result(t)
         if not t.has_handle:
-            box[0] = replace(t, destruction_time=now_ns)
+            box[0] = replace(t, destruction_time_ns=now_ns)
         return GoalOutcome(book.goals(goals), arrival, box[0], tuple(book.publications))
     if goal_id == "":
         generated = ids.generate_id(now_ns)
-        tracked_id, tracked_stamp, tested_stamp = generated.id, generated.stamp, stamp_ns
+        tracked_id, tracked_stamp, tested_stamp = generated.id, generated.stamp_ns, stamp_ns
     else:
         tracked_stamp = stamp_ns if stamp_ns != 0 else now_ns
         tracked_id, tested_stamp = goal_id, tracked_stamp
     box = [GoalTracker(tracked_id, tracked_stamp, GoalStatus.PENDING, serial=book.serial())]
     book.boxes.append(box)
-    if tested_stamp != 0 and tested_stamp <= book.last_cancel:
+    if tested_stamp != 0 and tested_stamp <= book.last_cancel_ns:
         tr = book.apply(box, ServerEvent.CANCEL, CANCELED_BY_STAMP_TEXT)
         return GoalOutcome(
             book.goals(goals), GoalArrival.CANCELED_BY_STAMP, box[0], tuple(book.publications), tr
@@ -417,14 +415,14 @@ def receive_goal(
     return GoalOutcome(book.goals(goals), GoalArrival.NEW, box[0])
 
 
-def receive_cancel(goals: ServerGoals, request: CancelRequest, now: int | Time) -> CancelOutcome:
+def receive_cancel(goals: ServerGoals, request: CancelRequest, now_ns: int) -> CancelOutcome:
     """A cancel request arrives (``internal_cancel_callback``); see the module docstring."""
     if not isinstance(request, CancelRequest):
         raise DdesTypeError(
             f"cancel request must be a CancelRequest, got {request!r}; "
-            "use CancelRequest(id, stamp) or CancelRequest.all()"
+            "use CancelRequest(id, stamp_ns) or CancelRequest.all()"
         )
-    now_ns = time_ns(now, "now")
+    check_ns(now_ns, "now_ns")
     book = _Book(goals, now_ns)
     found = False
     matched: list[str] = []
@@ -438,7 +436,7 @@ def receive_cancel(goals: ServerGoals, request: CancelRequest, now: int | Time) 
         if request.id == t.goal_id:
             found = True
         if not t.has_handle:
-            box[0] = replace(t, has_handle=True, destruction_time=now_ns)
+            box[0] = replace(t, has_handle=True, destruction_time_ns=now_ns)
         tr = book.apply(box, ServerEvent.CANCEL_REQUEST, "")
         transitions.append(tr)
         if tr.legal:
@@ -446,11 +444,11 @@ def receive_cancel(goals: ServerGoals, request: CancelRequest, now: int | Time) 
     placeholder = None
     if request.id != "" and not found:
         placeholder = GoalTracker(
-            request.id, request.stamp, GoalStatus.RECALLING,
-            has_goal=False, has_handle=False, destruction_time=now_ns, serial=book.serial(),
+            request.id, request.stamp_ns, GoalStatus.RECALLING,
+            has_goal=False, has_handle=False, destruction_time_ns=now_ns, serial=book.serial(),
         )
         book.boxes.append([placeholder])
-    book.last_cancel = max(book.last_cancel, request.stamp)
+    book.last_cancel_ns = max(book.last_cancel_ns, request.stamp_ns)
     return CancelOutcome(
         book.goals(goals), request, tuple(matched), tuple(requested), placeholder,
         tuple(book.publications), tuple(transitions), tuple(book.errors),
@@ -461,7 +459,7 @@ def apply_goal_event(
     goals: ServerGoals,
     goal: str | GoalTracker,
     event: ServerEvent | str,
-    now: int | Time,
+    now_ns: int,
     text: str = "",
 ) -> EventOutcome:
     """A ``ServerGoalHandle`` call (``set_accepted``, ``set_succeeded``, ...) on one goal.
@@ -473,7 +471,7 @@ def apply_goal_event(
     call sets (a cancel request keeps the old text).  An illegal call changes
     nothing and publishes nothing; ``transition.error`` holds ROS's log text.
     """
-    now_ns = time_ns(now, "now")
+    check_ns(now_ns, "now_ns")
     if not isinstance(text, str):
         raise DdesTypeError(f"status text must be a str, got {text!r}")
     if isinstance(event, str) and not isinstance(event, ServerEvent):
@@ -503,8 +501,8 @@ def apply_goal_event(
     )
 
 
-def publish_status(goals: ServerGoals, now: int | Time) -> StatusOutcome:
-    """The status array at ``now`` (``ActionServer.publish_status``), pruning expired entries."""
-    book = _Book(goals, time_ns(now, "now"))
+def publish_status(goals: ServerGoals, now_ns: int) -> StatusOutcome:
+    """The status array at ``now_ns`` (``ActionServer.publish_status``), pruning expired entries."""
+    book = _Book(goals, check_ns(now_ns, "now_ns"))
     book.publish_status()
     return StatusOutcome(book.goals(goals), book.publications[0], tuple(book.removed))

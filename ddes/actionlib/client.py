@@ -22,20 +22,29 @@ every goal until ``gh.stop_tracking()`` (SimpleActionClient does it for the
 goal it replaces), so nothing depends on the garbage collector.
 ``wait_for_server`` is an event that fires when the condition holds instead of
 a 10 ms wall-clock poll; its deadline is on ROS time, as in ROS.
+
+User callbacks run as part of the subscriber callback that received the
+message (status, result or feedback), through the node's one callback runner:
+a generator callback (``yield node.sleep(1.0)``) takes simulated time and
+holds the node's spinner until it ends, as a slow callback holds rospy's
+thread.  Callbacks after it (the next transitions of the same message) run
+when it has ended; the comm state machine itself has already moved, so they
+see the goal's state as it is then.  A ``gh.cancel()`` whose transition
+callback is a generator hands it to the node's callback queue.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
-from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
 from ddes.actionlib._common import (
     ActionTypes,
+    CallbackChain,
+    CallbackGenerator,
     NodeGoalIds,
     check_message,
     misuse,
-    new_time,
     queue_size_param,
 )
 from ddes.actionlib.goal_id import GoalIdStyle
@@ -50,8 +59,9 @@ from ddes.actionlib.states import (
 )
 from ddes.errors import DdesTypeError
 from ddes.graph.rosout import WARN
+from ddes.msg.message import Message
 from ddes.time.rostime import Time
-from ddes.time.units import duration_to_ns
+from ddes.time.units import DurationLike, TimeLike, duration_to_ns, time_to_ns
 
 if TYPE_CHECKING:
     import simpy
@@ -59,6 +69,15 @@ if TYPE_CHECKING:
     from ddes.graph.node import Node
 
 __all__ = ["ActionClient", "ClientGoalHandle"]
+
+#: ``transition_cb(gh)``: a goal entered a comm state.
+TransitionCallback = Callable[["ClientGoalHandle"], object]
+#: ``feedback_cb(gh, feedback)``: feedback (a ``FooFeedback``) for a goal.
+FeedbackCallback = Callable[["ClientGoalHandle", Message], object]
+#: SimpleActionClient's own transition callback: told the state entered.
+_StateCallback = Callable[["ClientGoalHandle", CommState], object]
+
+_POLL_NS = 10_000_000  # wait_for_server re-checks the connections every 10 ms, as ROS (wall)
 
 _TERMINAL_OR_LOST = frozenset({GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED, GoalStatus.ABORTED,
                                GoalStatus.REJECTED, GoalStatus.RECALLED, GoalStatus.LOST})
@@ -72,23 +91,27 @@ class _CommStateMachine:
     """One goal sent by a client (rospy ``CommStateMachine``)."""
 
     __slots__ = ("client", "action_goal", "goal_id", "state", "status", "text", "latest_result",
-                 "transition_cb", "feedback_cb")
+                 "transition_cb", "feedback_cb", "state_cb")
 
-    def __init__(self, client: ActionClient, action_goal: Any, goal_id: str,
-                 transition_cb: Callable[..., Any] | None,
-                 feedback_cb: Callable[..., Any] | None) -> None:
+    def __init__(self, client: ActionClient, action_goal: Message, goal_id: str,
+                 transition_cb: TransitionCallback | None,
+                 feedback_cb: FeedbackCallback | None,
+                 state_cb: _StateCallback | None = None) -> None:
         self.client = client
         self.action_goal = action_goal
         self.goal_id = goal_id
         self.state = CommState.WAITING_FOR_GOAL_ACK
         self.status: int = GoalStatus.PENDING
         self.text = ""
-        self.latest_result: Any = None
+        #: The ``FooActionResult`` once received.
+        self.latest_result: Message | None = None
         self.transition_cb = transition_cb
         self.feedback_cb = feedback_cb
+        self.state_cb = state_cb
 
-    def apply(self, upd: CommUpdate, text: str | None) -> None:
-        """Take a pure update: latest status, errors, each state entered (with its callback)."""
+    def apply(self, upd: CommUpdate, text: str | None, chain: CallbackChain) -> None:
+        """Take a pure update: latest status, errors, each state entered (its callback on
+        ``chain``)."""
         client = self.client
         if upd.latest_status is not None:
             self.status = int(upd.latest_status)
@@ -101,9 +124,9 @@ class _CommStateMachine:
             client.node.world.record("action.client.lost", client.node.name, ns=client.ns,
                                      id=self.goal_id, state=upd.before.name)
         for state in upd.passed:
-            self.transition_to(state)
+            self.transition_to(state, chain)
 
-    def transition_to(self, state: CommState) -> None:
+    def transition_to(self, state: CommState, chain: CallbackChain) -> None:
         client = self.client
         before = self.state
         self.state = state
@@ -111,7 +134,9 @@ class _CommStateMachine:
                                  id=self.goal_id, before=before.name, after=state.name,
                                  status=_status_name(self.status))
         if self.transition_cb is not None:
-            client._call_user(self.transition_cb, ClientGoalHandle(self))
+            chain.call(self.transition_cb, ClientGoalHandle(self))
+        if self.state_cb is not None:
+            chain.call(self.state_cb, ClientGoalHandle(self), state)
 
 
 class ClientGoalHandle:
@@ -134,12 +159,18 @@ class ClientGoalHandle:
     def cancel(self) -> None:
         """Send a cancel for this goal (id, stamp 0) and move to WAITING_FOR_CANCEL_ACK.
 
-        As in rospy this happens from any state, DONE included.
+        As in rospy this happens from any state, DONE included.  The transition
+        callback runs at once; if it is a generator, the node's callback queue
+        runs it (it holds the spinner, as any generator callback).
         """
         csm = self._csm
         client = csm.client
         client._publish_cancel(csm.goal_id, 0)
-        csm.apply(apply_comm_cancel(csm.state), None)
+        chain = CallbackChain()
+        csm.apply(apply_comm_cancel(csm.state), None, chain)
+        rest = chain.rest()
+        if rest is not None:
+            client.node.callbacks.invoke(_transition_callbacks, (rest,))
 
     def get_comm_state(self) -> CommState:
         """The goal's :class:`CommState`."""
@@ -153,7 +184,7 @@ class ClientGoalHandle:
         """The text of the latest status."""
         return self._csm.text
 
-    def get_result(self) -> Any:
+    def get_result(self) -> Message | None:
         """The result (``FooResult``) once received, else None."""
         r = self._csm.latest_result
         return None if r is None else r.result
@@ -197,7 +228,8 @@ class ClientGoalHandle:
 class ActionClient:
     """``ActionClient(node, ns, ActionSpec)``: send goals, follow them, cancel them."""
 
-    def __init__(self, node: Node, ns: str, ActionSpec: Any) -> None:  # noqa: N803 - rospy's name
+    def __init__(self, node: Node, ns: str,
+                 ActionSpec: type[Message] | str) -> None:  # noqa: N803 - rospy's name
         node.check_alive("create an action client")
         if not isinstance(ns, str) or not ns:
             raise DdesTypeError(f"action namespace must be a non-empty string, got {ns!r}")
@@ -216,7 +248,7 @@ class ActionClient:
         self._ids = NodeGoalIds(node, GoalIdStyle.CLIENT)
         self._tracked: dict[str, _CommStateMachine] = {}
         #: The last status array received (None before the first).
-        self.last_status_msg: Any = None
+        self.last_status_msg: Message | None = None
         self._last_status_sender: str | None = None
         self._delivered: dict[int, int] = {}
         self._status_waiters: list[simpy.Event] = []
@@ -239,27 +271,33 @@ class ActionClient:
         node.add_entity(self)
 
     # -- sending --------------------------------------------------------------------------
-    def send_goal(self, goal: Any, transition_cb: Callable[[ClientGoalHandle], Any] | None = None,
-                  feedback_cb: Callable[[ClientGoalHandle, Any], Any] | None = None
-                  ) -> ClientGoalHandle:
+    def send_goal(self, goal: Message, transition_cb: TransitionCallback | None = None,
+                  feedback_cb: FeedbackCallback | None = None) -> ClientGoalHandle:
         """Send ``goal`` (a ``FooGoal``) with a fresh goal id; returns its handle.
 
         A goal of another type raises :class:`~ddes.errors.ROSActionException`
-        (rospy fails to serialize it).
+        (rospy fails to serialize it).  ``transition_cb(gh)`` runs for every
+        comm state the goal enters, ``feedback_cb(gh, feedback)`` for its
+        feedback; either may be a generator (see the module docstring).
         """
+        return self._send_goal(goal, transition_cb, feedback_cb, None)
+
+    def _send_goal(self, goal: Message, transition_cb: TransitionCallback | None,
+                   feedback_cb: FeedbackCallback | None,
+                   state_cb: _StateCallback | None) -> ClientGoalHandle:
         self._check_open("send a goal")
         check_message(goal, self.types.goal, "send_goal: the goal",
                       f"build it with {self.types.goal.__name__}(...)")
-        now = self.node.clock.now_ns()
-        gid = self._ids.generate_id(now)
+        now_ns = self.node.clock.now_ns()
+        gid = self._ids.generate_id(now_ns)
         ag = self.ActionGoal()
-        ag.header.stamp = new_time(now)
-        ag.goal_id = self._GoalID(stamp=new_time(gid.stamp), id=gid.id)
+        ag.header.stamp = Time.from_nsec(now_ns)
+        ag.goal_id = self._GoalID(stamp=Time.from_nsec(gid.stamp_ns), id=gid.id)
         ag.goal = goal
-        csm = _CommStateMachine(self, ag, gid.id, transition_cb, feedback_cb)
+        csm = _CommStateMachine(self, ag, gid.id, transition_cb, feedback_cb, state_cb)
         self._tracked[gid.id] = csm
         self.node.world.record("action.client.send", self.node.name, ns=self.ns, id=gid.id,
-                               stamp=gid.stamp)
+                               stamp=gid.stamp_ns)
         self.pub_goal.publish(ag)
         return ClientGoalHandle(csm)
 
@@ -267,17 +305,16 @@ class ActionClient:
         """Cancel every goal of the server (id ``""``, stamp 0)."""
         self._publish_cancel("", 0)
 
-    def cancel_goals_at_and_before_time(self, time: Time | float) -> None:
-        """Cancel the server's goals stamped at or before ``time`` (id ``""``, stamp ``time``)."""
-        if isinstance(time, Time):
-            ns = time.to_nsec()
-        else:
-            ns = Time.from_sec(time).to_nsec()
-        self._publish_cancel("", ns)
+    def cancel_goals_at_and_before_time(self, time: TimeLike) -> None:
+        """Cancel the server's goals stamped at or before ``time`` (id ``""``, stamp ``time``).
+
+        ``time`` is a :class:`~ddes.Time` or seconds of ROS time.
+        """
+        self._publish_cancel("", time_to_ns(time, "time"))
 
     def _publish_cancel(self, goal_id: str, stamp_ns: int) -> None:
         self._check_open("send a cancel request")
-        msg = self._GoalID(stamp=new_time(stamp_ns), id=goal_id)
+        msg = self._GoalID(stamp=Time.from_nsec(stamp_ns), id=goal_id)
         self.node.world.record("action.client.cancel", self.node.name, ns=self.ns, id=goal_id,
                                stamp=stamp_ns)
         self.pub_cancel.publish(msg)
@@ -291,13 +328,13 @@ class ActionClient:
                 f"cannot {what}: the action client of {self.ns} was stopped; create a new one")
 
     # -- waiting --------------------------------------------------------------------------
-    def wait_for_server(self, timeout: Any = 0) -> simpy.Event:
+    def wait_for_server(self, timeout: DurationLike = 0) -> simpy.Event:
         """Event whose value is True once the server is up (rospy ``wait_for_server``).
 
         The server is up when a status message has been received and its
         publisher is connected to this client's goal, cancel, result and
-        feedback topics.  ``timeout`` (ROS time; 0 means for ever) makes the
-        value False when it expires first.
+        feedback topics.  ``timeout`` (seconds or a Duration of ROS time; 0
+        means for ever) makes the value False when it expires first.
         """
         return self.node.process(self._wait_for_server(duration_to_ns(timeout, "timeout")))
 
@@ -312,7 +349,7 @@ class ActionClient:
                 and any(c.pub.node.name == server for c in self.result_sub.connections)
                 and any(c.pub.node.name == server for c in self.feedback_sub.connections))
 
-    def _wait_for_server(self, timeout_ns: int) -> Generator[Any, Any, bool]:
+    def _wait_for_server(self, timeout_ns: int) -> Generator[simpy.Event, Any, bool]:
         node = self.node
         env = node.world.env
         clock = node.clock
@@ -328,7 +365,7 @@ class ActionClient:
             self._status_waiters.append(arrival)
             events = [arrival, node.spin()]
             if self.last_status_msg is not None:
-                events.append(env.timeout(10_000_000))  # ROS polls every 10 ms (wall)
+                events.append(env.timeout(_POLL_NS))
             if deadline is not None:
                 events.append(deadline)
             yield env.any_of(events)
@@ -337,7 +374,7 @@ class ActionClient:
         return False
 
     # -- incoming -------------------------------------------------------------------------
-    def _status_cb(self, msg: Any) -> None:
+    def _status_cb(self, msg: Message) -> CallbackGenerator | None:
         self.last_status_msg = msg
         for conn in self.status_sub.connections:
             if self._delivered.get(conn.id, 0) != conn.delivered:
@@ -349,35 +386,41 @@ class ActionClient:
                 if not ev.triggered:
                     ev.succeed()
         if not self._tracked:
-            return
-        entries: dict[str, Any] = {}
+            return None
+        entries: dict[str, Message] = {}
         for st in msg.status_list:
             entries.setdefault(st.goal_id.id, st)
+        chain = CallbackChain()
         for csm in list(self._tracked.values()):
             if csm.state == CommState.DONE:
                 continue
             st = entries.get(csm.goal_id)
             if st is None:
-                csm.apply(apply_comm_status(csm.state, None), None)
+                csm.apply(apply_comm_status(csm.state, None), None, chain)
             else:
-                csm.apply(apply_comm_status(csm.state, st.status), st.text)
+                csm.apply(apply_comm_status(csm.state, st.status), st.text, chain)
+        return chain.rest()
 
-    def _result_cb(self, msg: Any) -> None:
+    def _result_cb(self, msg: Message) -> CallbackGenerator | None:
         csm = self._tracked.get(msg.status.goal_id.id)
         if csm is None:
-            return
+            return None
         self.node.world.record("action.client.result", self.node.name, ns=self.ns, id=csm.goal_id,
                                status=_status_name(msg.status.status))
         csm.latest_result = msg
-        csm.apply(apply_comm_result(csm.state, msg.status.status), msg.status.text)
+        chain = CallbackChain()
+        csm.apply(apply_comm_result(csm.state, msg.status.status), msg.status.text, chain)
+        return chain.rest()
 
-    def _feedback_cb(self, msg: Any) -> None:
+    def _feedback_cb(self, msg: Message) -> CallbackGenerator | None:
         csm = self._tracked.get(msg.status.goal_id.id)
         if csm is None or csm.feedback_cb is None or csm.state == CommState.DONE:
-            return
+            return None
         self.node.world.record("action.client.feedback", self.node.name, ns=self.ns,
                                id=csm.goal_id)
-        self._call_user(csm.feedback_cb, ClientGoalHandle(csm), msg.feedback)
+        chain = CallbackChain()
+        chain.call(csm.feedback_cb, ClientGoalHandle(csm), msg.feedback)
+        return chain.rest()
 
     def _invalid(self, csm: _CommStateMachine, upd: CommUpdate, error: str) -> None:
         self.invalid_transitions += 1
@@ -385,12 +428,6 @@ class ActionClient:
         node.world.record("action.client.invalid", node.name, ns=self.ns, id=csm.goal_id,
                           state=upd.before.name, status=_status_name(csm.status), error=error)
         node.logerr(error)
-
-    def _call_user(self, fn: Callable[..., Any], *args: Any) -> None:
-        """Run a user callback; a generator callback continues as a process of the node."""
-        result = fn(*args)
-        if type(result) is GeneratorType:
-            self.node.process(result)
 
     # -- lifecycle ------------------------------------------------------------------------
     @property
@@ -415,3 +452,8 @@ class ActionClient:
         """The node is shutting down."""
         self.stop()
         self.node.remove_entity(self)
+
+
+def _transition_callbacks(rest: CallbackGenerator) -> CallbackGenerator:
+    """The generator transition callbacks of a ``gh.cancel()``, as one queued callback."""
+    return rest

@@ -21,13 +21,27 @@ from __future__ import annotations
 from enum import Enum
 from typing import NamedTuple
 
-from ddes.actionlib._nanos import time_ns
 from ddes.errors import DdesTypeError, DdesValueError
 from ddes.time.rostime import Time
 
-__all__ = ["GoalIdGenerator", "GoalIdStamp", "GoalIdStyle"]
+__all__ = ["GoalIdGenerator", "GoalIdStamp", "GoalIdStyle", "check_ns"]
 
-_NS = 1_000_000_000
+
+def check_ns(value: int, what: str, *, instant: bool = True) -> int:
+    """``value`` unchanged if it is an ``int`` of nanoseconds (>= 0 for an ``instant``).
+
+    The pure actionlib core takes every time as int nanoseconds, in parameters
+    and fields named ``*_ns``; anything else is a typed error that says how to
+    convert (:mod:`ddes.time.units` is the one converter).
+    """
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise DdesTypeError(
+            f"{what} must be int nanoseconds, got {value!r} ({type(value).__name__}); convert a "
+            "Time, a Duration or seconds with ddes.time.units.to_ns(...)"
+        )
+    if instant and value < 0:
+        raise DdesValueError(f"{what} must be >= 0 nanoseconds (a ROS time), got {value}")
+    return value
 
 
 class GoalIdStyle(str, Enum):
@@ -41,7 +55,7 @@ class GoalIdStamp(NamedTuple):
     """A generated goal id and its stamp (int nanoseconds): an ``actionlib_msgs/GoalID``."""
 
     id: str
-    stamp: int
+    stamp_ns: int
 
 
 class GoalIdGenerator:
@@ -70,17 +84,16 @@ class GoalIdGenerator:
         """How many ids this generator has made."""
         return self._count
 
-    def generate_id(self, now: int | Time) -> GoalIdStamp:
-        """A new id stamped ``now`` (int nanoseconds or a ``Time``)."""
-        ns = time_ns(now, "goal id time")
+    def generate_id(self, now_ns: int) -> GoalIdStamp:
+        """A new id stamped ``now_ns`` (int nanoseconds of ROS time)."""
+        check_ns(now_ns, "now_ns (the goal id time)")
         self._count += 1
-        secs, nsecs = divmod(ns, _NS)
+        now = Time.from_nsec(now_ns)
         if self.style is GoalIdStyle.SERVER:
-            text = f"{self.name}-{self._count}-{secs}.{nsecs}"
+            text = f"{self.name}-{self._count}-{now.secs}.{now.nsecs}"
         else:
-            to_sec = float(secs) + float(nsecs) / 1e9  # genpy's Time.to_sec()
-            text = f"{self.name}-{self._count:d}-{to_sec:.3f}"  # rospy: "%s-%i-%.3f"
-        return GoalIdStamp(text, ns)
+            text = f"{self.name}-{self._count:d}-{now.to_sec():.3f}"  # rospy: "%s-%i-%.3f"
+        return GoalIdStamp(text, now_ns)
 
     def __repr__(self) -> str:
         return f"GoalIdGenerator({self.name!r}, style={self.style.value!r}, count={self._count})"

@@ -19,12 +19,13 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.actionlib.states import TERMINAL_STATUSES, GoalStatus
-from ddes.errors import DdesTypeError, DdesValueError
+from ddes.time.units import TimeLike, ns_to_sec, time_to_ns
 
 if TYPE_CHECKING:
+    from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
@@ -136,7 +137,7 @@ def goal_timelines(trace: Trace | Iterable[TraceEvent], ns: str | None = None,
 
 
 def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
-               source: str | None = None, ax: Axes | None = None, until: Any = None,
+               source: str | None = None, ax: Axes | None = None, until: TimeLike | None = None,
                title: str | None = None) -> Figure:
     """Draw the goals of ``trace`` over simulated time; returns the Figure.
 
@@ -151,59 +152,51 @@ def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
     from matplotlib.patches import Patch
 
     events = list(trace)
-    if until is None:
-        end = events[-1].t if events else 0
-    elif hasattr(until, "to_nsec"):
-        end = int(until.to_nsec())
-    elif isinstance(until, (int, float)) and not isinstance(until, bool):
-        end = int(round(until * 1e9))
-    else:
-        raise DdesTypeError(f"until must be seconds or a Time, got {until!r}")
-    if end < 0:
-        raise DdesValueError(f"until must be >= 0, got {until!r}")
+    end = (events[-1].t if events else 0) if until is None else time_to_ns(until, "until")
     timelines = goal_timelines(events, ns, source)
     if ax is None:
         fig = Figure(figsize=(9.0, 1.2 + 0.45 * max(1, len(timelines))))
         ax = fig.add_subplot(1, 1, 1)
     else:
         fig = ax.figure  # type: ignore[assignment]
-    sec = 1e-9
     used: set[str] = set()
     for row, tl in enumerate(timelines):
         y = len(timelines) - 1 - row
         for start, stop, status in tl.segments:
             stop_t = end if stop is None else stop
-            ax.broken_barh([(start * sec, max(stop_t - start, 0) * sec)], (y - 0.3, 0.6),
+            bar = (ns_to_sec(start), ns_to_sec(max(stop_t - start, 0)))
+            ax.broken_barh([bar], (y - 0.3, 0.6),
                            facecolors=STATUS_COLORS[status], edgecolors="none")
             used.add(status)
         if tl.terminal is not None:
             t, status = tl.terminal
-            ax.plot([t * sec], [y], marker="D", color=STATUS_COLORS[status], markersize=8,
+            ax.plot([ns_to_sec(t)], [y], marker="D", color=STATUS_COLORS[status], markersize=8,
                     linestyle="none")
-            ax.annotate(status, (t * sec, y), xytext=(6, 6), textcoords="offset points",
+            ax.annotate(status, (ns_to_sec(t), y), xytext=(6, 6), textcoords="offset points",
                         fontsize=7)
             used.add(status)
         if tl.feedback:
-            ax.plot([t * sec for t in tl.feedback], [y] * len(tl.feedback), marker="|",
+            ax.plot([ns_to_sec(t) for t in tl.feedback], [y] * len(tl.feedback), marker="|",
                     color="#333333", markersize=12, linestyle="none")
         if tl.cancels:
-            ax.plot([t * sec for t in tl.cancels], [y + 0.38] * len(tl.cancels), marker="x",
+            ax.plot([ns_to_sec(t) for t in tl.cancels], [y + 0.38] * len(tl.cancels), marker="x",
                     color="#d62728", linestyle="none")
         if tl.preempts:
-            ax.plot([t * sec for t in tl.preempts], [y - 0.4] * len(tl.preempts), marker="^",
+            ax.plot([ns_to_sec(t) for t in tl.preempts], [y - 0.4] * len(tl.preempts), marker="^",
                     color="#f2a541", linestyle="none")
         if tl.lost:
-            ax.plot([t * sec for t in tl.lost], [y] * len(tl.lost), marker="s", color="black",
+            ax.plot([ns_to_sec(t) for t in tl.lost], [y] * len(tl.lost), marker="s", color="black",
                     linestyle="none")
     ax.set_yticks(list(range(len(timelines))))
     ax.set_yticklabels([tl.goal_id for tl in reversed(timelines)], fontsize=7)
     ax.set_ylim(-0.8, max(len(timelines), 1) - 0.2)
     start = min((tl.first_seen for tl in timelines), default=0)
     span = max(end - start, 1)
-    ax.set_xlim((start - 0.02 * span) * sec, (end + 0.12 * span) * sec)
+    width = ns_to_sec(span)
+    ax.set_xlim(ns_to_sec(start) - 0.02 * width, ns_to_sec(end) + 0.12 * width)
     ax.set_xlabel("simulated time [s]")
     ax.set_title(title if title is not None else f"goals of {ns}" if ns else "action goals")
-    handles: list[Any] = [Patch(color=STATUS_COLORS[s], label=s)
+    handles: list[Artist] = [Patch(color=STATUS_COLORS[s], label=s)
                           for s in STATUS_COLORS if s in used]
     handles += [
         Line2D([], [], marker="|", color="#333333", linestyle="none", markersize=10,
@@ -214,4 +207,4 @@ def plot_goals(trace: Trace | Iterable[TraceEvent], ns: str | None = None, *,
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
               frameon=False)
     fig.tight_layout()
-    return fig  # type: ignore[return-value]
+    return fig

@@ -35,14 +35,15 @@ ignored, as in ROS, but recorded as ``action.misuse``; goal ids count per node
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.actionlib._common import (
     ActionTypes,
+    CallbackGenerator,
     NodeGoalIds,
+    UserCall,
     check_message,
     misuse,
-    new_time,
     queue_size_param,
     run_user_callbacks,
 )
@@ -54,22 +55,23 @@ from ddes.actionlib.cancel import (
     Publication,
     PublicationTopic,
     ServerGoals,
-    ServerTransition,
     apply_goal_event,
     publish_status,
     receive_cancel,
     receive_goal,
 )
 from ddes.actionlib.goal_id import GoalIdStyle
-from ddes.actionlib.states import TERMINAL_STATUSES, GoalStatus, ServerEvent
+from ddes.actionlib.states import TERMINAL_STATUSES, GoalStatus, ServerEvent, ServerTransition
 from ddes.errors import DdesTypeError, ROSActionException
 from ddes.graph.rosout import WARN
-from ddes.time.rostime import Duration
+from ddes.msg.message import Message
+from ddes.time.rostime import Duration, Time
+from ddes.time.units import duration_to_ns, time_to_ns
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
-    from ddes.graph.topics import Publisher, Subscriber
     from ddes.graph.timer import Timer, TimerEvent
+    from ddes.graph.topics import Publisher, Subscriber
 
 __all__ = ["AUTO_START_WARNING", "ActionServer", "ServerGoalHandle"]
 
@@ -83,6 +85,9 @@ _DEPRECATED_FREQUENCY = (
     "actionlib_status_frequency."
 )
 
+#: ``goal_cb(gh)`` / ``cancel_cb(gh)``: a plain function, or a generator that takes time.
+GoalHandleCallback = Callable[["ServerGoalHandle"], object]
+
 
 class ServerGoalHandle:
     """One goal as the server's user sees it (rospy ``ServerGoalHandle``).
@@ -95,7 +100,8 @@ class ServerGoalHandle:
 
     __slots__ = ("_server", "_tracker", "goal")
 
-    def __init__(self, server: ActionServer, tracker: GoalTracker | None, goal: Any) -> None:
+    def __init__(self, server: ActionServer, tracker: GoalTracker | None,
+                 goal: Message | None) -> None:
         self._server = server
         self._tracker = tracker
         #: The ``FooActionGoal`` message (header, goal_id, goal), or None.
@@ -112,11 +118,11 @@ class ServerGoalHandle:
         """The goal's current entry of the status list (kept after it is pruned)."""
         return self._tracker
 
-    def get_goal(self) -> Any:
+    def get_goal(self) -> Message | None:
         """The user's goal (``FooGoal``), or None for an uninitialized handle."""
         return None if self.goal is None else self.goal.goal
 
-    def get_goal_id(self) -> Any:
+    def get_goal_id(self) -> Message:
         """The ``actionlib_msgs/GoalID`` of the goal (an empty one, logged, if uninitialized)."""
         GoalID = self._server._GoalID
         t = self._tracker
@@ -124,9 +130,9 @@ class ServerGoalHandle:
             misuse(self._server.node, self._server.ns,
                    "Attempt to get a goal id on an uninitialized ServerGoalHandle")
             return GoalID()
-        return GoalID(stamp=new_time(t.stamp), id=t.goal_id)
+        return GoalID(stamp=Time.from_nsec(t.stamp_ns), id=t.goal_id)
 
-    def get_goal_status(self) -> Any:
+    def get_goal_status(self) -> Message:
         """The goal's ``actionlib_msgs/GoalStatus`` (an empty one, logged, if uninitialized)."""
         t = self._tracker
         if self.goal is None or t is None:
@@ -145,19 +151,23 @@ class ServerGoalHandle:
         """PENDING → ACTIVE or RECALLING → PREEMPTING."""
         return self._server._event(self, ServerEvent.ACCEPT, None, text)
 
-    def set_rejected(self, result: Any = None, text: str = "") -> ServerTransition | None:
+    def set_rejected(self, result: Message | None = None,
+                     text: str = "") -> ServerTransition | None:
         """PENDING or RECALLING → REJECTED (publishes the result)."""
         return self._server._event(self, ServerEvent.REJECT, result, text)
 
-    def set_canceled(self, result: Any = None, text: str = "") -> ServerTransition | None:
+    def set_canceled(self, result: Message | None = None,
+                     text: str = "") -> ServerTransition | None:
         """PENDING/RECALLING → RECALLED, ACTIVE/PREEMPTING → PREEMPTED (publishes the result)."""
         return self._server._event(self, ServerEvent.CANCEL, result, text)
 
-    def set_succeeded(self, result: Any = None, text: str = "") -> ServerTransition | None:
+    def set_succeeded(self, result: Message | None = None,
+                      text: str = "") -> ServerTransition | None:
         """ACTIVE or PREEMPTING → SUCCEEDED (publishes the result)."""
         return self._server._event(self, ServerEvent.SUCCEED, result, text)
 
-    def set_aborted(self, result: Any = None, text: str = "") -> ServerTransition | None:
+    def set_aborted(self, result: Message | None = None,
+                    text: str = "") -> ServerTransition | None:
         """ACTIVE or PREEMPTING → ABORTED (publishes the result)."""
         return self._server._event(self, ServerEvent.ABORT, result, text)
 
@@ -166,7 +176,7 @@ class ServerGoalHandle:
         tr = self._server._event(self, ServerEvent.CANCEL_REQUEST, None, "")
         return tr is not None and tr.legal
 
-    def publish_feedback(self, feedback: Any) -> None:
+    def publish_feedback(self, feedback: Message) -> None:
         """Publish ``feedback`` (a ``FooFeedback``) for this goal, whatever its state, as ROS does."""
         self._server._feedback(self, feedback)
 
@@ -207,9 +217,9 @@ class ActionServer:
         self,
         node: Node,
         ns: str,
-        ActionSpec: Any,  # noqa: N803 - rospy's parameter name
-        goal_cb: Callable[[ServerGoalHandle], Any],
-        cancel_cb: Callable[[ServerGoalHandle], Any] | None = None,
+        ActionSpec: type[Message] | str,  # noqa: N803 - rospy's parameter name
+        goal_cb: GoalHandleCallback,
+        cancel_cb: GoalHandleCallback | None = None,
         auto_start: bool = False,
     ) -> None:
         node.check_alive("create an action server")
@@ -234,8 +244,8 @@ class ActionServer:
         self._GoalStatusArray = get_message_class("actionlib_msgs/GoalStatusArray")
         #: The resolved action namespace (``/fibonacci``).
         self.ns = node.resolve_name(ns)
-        self.goal_callback = goal_cb
-        self.cancel_callback = cancel_cb
+        self.goal_callback: GoalHandleCallback = goal_cb
+        self.cancel_callback: GoalHandleCallback | None = cancel_cb
         self.auto_start = bool(auto_start)
         self.started = False
         self._stopped = False
@@ -245,11 +255,11 @@ class ActionServer:
         #: Illegal goal-handle calls so far (each also an ``action.server.illegal`` event).
         self.illegal_transitions = 0
         self.status_frequency = 5.0
-        self.goal_sub: Subscriber | None = None
-        self.cancel_sub: Subscriber | None = None
-        self.status_pub: Publisher | None = None
-        self.result_pub: Publisher | None = None
-        self.feedback_pub: Publisher | None = None
+        self.goal_sub: Subscriber[type[Message]] | None = None
+        self.cancel_sub: Subscriber[type[Message]] | None = None
+        self.status_pub: Publisher[type[Message]] | None = None
+        self.result_pub: Publisher[type[Message]] | None = None
+        self.feedback_pub: Publisher[type[Message]] | None = None
         self.status_timer: Timer | None = None
         node.add_entity(self)
         if self.auto_start:
@@ -257,11 +267,11 @@ class ActionServer:
             self.start()
 
     # -- configuration --------------------------------------------------------------------
-    def register_goal_callback(self, cb: Callable[[ServerGoalHandle], Any]) -> None:
+    def register_goal_callback(self, cb: GoalHandleCallback) -> None:
         """Replace the goal callback."""
         self.goal_callback = cb
 
-    def register_cancel_callback(self, cb: Callable[[ServerGoalHandle], Any] | None) -> None:
+    def register_cancel_callback(self, cb: GoalHandleCallback | None) -> None:
         """Replace the cancel callback."""
         self.cancel_callback = cb
 
@@ -271,14 +281,24 @@ class ActionServer:
         return self._goals.trackers
 
     @property
-    def last_cancel(self) -> int:
+    def last_cancel_ns(self) -> int:
         """The latest cancel stamp seen (int ns)."""
-        return self._goals.last_cancel
+        return self._goals.last_cancel_ns
 
     @property
-    def status_list_timeout(self) -> int:
+    def last_cancel(self) -> Time:
+        """The latest cancel stamp seen (rospy's ``last_cancel``, a Time)."""
+        return Time.from_nsec(self._goals.last_cancel_ns)
+
+    @property
+    def status_list_timeout_ns(self) -> int:
         """How long finished goals stay in the status list (int ns)."""
-        return self._goals.status_list_timeout
+        return self._goals.status_list_timeout_ns
+
+    @property
+    def status_list_timeout(self) -> Duration:
+        """How long finished goals stay in the status list (rospy's attribute, a Duration)."""
+        return Duration.from_nsec(self._goals.status_list_timeout_ns)
 
     # -- lifecycle ------------------------------------------------------------------------
     def start(self) -> None:
@@ -293,7 +313,7 @@ class ActionServer:
         self._stopped = False
         self.node.world.record("action.server.start", self.node.name, ns=self.ns,
                                type=self.types.name, status_frequency=self.status_frequency,
-                               status_list_timeout=self._goals.status_list_timeout)
+                               status_list_timeout=self._goals.status_list_timeout_ns)
         self.publish_status()
 
     def _initialize(self) -> None:
@@ -325,12 +345,12 @@ class ActionServer:
             misuse(node, ns, f"{ns}/status_list_timeout must be a number of seconds, got "
                    f"{timeout!r}; using 5.0", level=WARN)
             timeout = 5.0
-        self._goals = ServerGoals(self._goals.trackers, self._goals.last_cancel,
-                                  Duration.from_sec(float(timeout)).to_nsec(),
+        self._goals = ServerGoals(self._goals.trackers, self._goals.last_cancel_ns,
+                                  duration_to_ns(float(timeout), "status_list_timeout"),
                                   self._goals.created)
         if self.status_frequency > 0.0:
-            period = Duration.from_sec(1.0 / self.status_frequency)
-            self.status_timer = node.create_timer(period, self._publish_status_async)
+            self.status_timer = node.create_timer(1.0 / self.status_frequency,
+                                                  self._publish_status_async)
 
     def stop(self) -> None:
         """Stop the server: its topics and timer go away (rospy ``stop``)."""
@@ -351,11 +371,12 @@ class ActionServer:
         self.node.remove_entity(self)
 
     # -- publishing -----------------------------------------------------------------------
-    def _now(self) -> int:
+    def _now_ns(self) -> int:
         return self.node.clock.now_ns()
 
-    def _status_msg(self, t: GoalTracker) -> Any:
-        return self._GoalStatus(goal_id=self._GoalID(stamp=new_time(t.stamp), id=t.goal_id),
+    def _status_msg(self, t: GoalTracker) -> Message:
+        return self._GoalStatus(goal_id=self._GoalID(stamp=Time.from_nsec(t.stamp_ns),
+                                                     id=t.goal_id),
                                 status=int(t.status), text=t.text)
 
     def _can_publish(self, what: str) -> bool:
@@ -376,15 +397,16 @@ class ActionServer:
             misuse(self.node, self.ns, f"publish_status() on {self.ns} ignored: the action "
                    "server is not started; call start()", level=WARN)
             return
-        out = publish_status(self._goals, self._now())
+        out = publish_status(self._goals, self._now_ns())
         self._commit(out.goals, (out.publication,), None)
 
     def _publish_status_async(self, _event: TimerEvent) -> None:
         if self.started:
-            out = publish_status(self._goals, self._now())
+            out = publish_status(self._goals, self._now_ns())
             self._commit(out.goals, (out.publication,), None)
 
-    def _commit(self, goals: ServerGoals, pubs: tuple[Publication, ...], result: Any) -> None:
+    def _commit(self, goals: ServerGoals, pubs: tuple[Publication, ...],
+                result: Message | None) -> None:
         """Adopt the core's new state, sync the handles, forward its publications in order."""
         self._goals = goals
         handles = self._handles
@@ -400,7 +422,7 @@ class ActionServer:
         if not pubs or self.node.is_shutdown():
             return
         for p in pubs:
-            stamp = new_time(p.stamp)
+            stamp = Time.from_nsec(p.stamp_ns)
             if p.topic is PublicationTopic.STATUS:
                 arr = self._GoalStatusArray()
                 arr.header.stamp = stamp
@@ -416,7 +438,7 @@ class ActionServer:
                 self.result_pub.publish(ar)
 
     # -- goal handle calls ----------------------------------------------------------------
-    def _event(self, gh: ServerGoalHandle, event: ServerEvent, result: Any,
+    def _event(self, gh: ServerGoalHandle, event: ServerEvent, result: Message | None,
                text: str) -> ServerTransition | None:
         node = self.node
         t = gh._tracker
@@ -431,7 +453,7 @@ class ActionServer:
             check_message(result, self.ActionResultType, f"{event.ros_method}: the result",
                           f"pass a {self.ActionResultType.__name__}() or None")
         self._can_publish(event.ros_method)
-        out = apply_goal_event(self._goals, t, event, self._now(), text)
+        out = apply_goal_event(self._goals, t, event, self._now_ns(), text)
         tr = out.transition
         gh._tracker = out.tracker
         if tr.legal:
@@ -458,7 +480,7 @@ class ActionServer:
                           event=tr.event.ros_method, state=tr.before.name, error=tr.error)
         node.logerr(tr.error)
 
-    def _feedback(self, gh: ServerGoalHandle, feedback: Any) -> None:
+    def _feedback(self, gh: ServerGoalHandle, feedback: Message) -> None:
         node = self.node
         t = gh._tracker
         if gh.goal is None or t is None:
@@ -474,7 +496,7 @@ class ActionServer:
                               text=f"feedback for goal {t.goal_id} published after its terminal "
                                    f"state {t.status.name} (ROS publishes it too)")
         af = self.ActionFeedback()
-        af.header.stamp = new_time(self._now())
+        af.header.stamp = Time.from_nsec(self._now_ns())
         af.status = self._status_msg(t)
         af.feedback = feedback
         node.world.record("action.server.feedback", node.name, ns=self.ns, id=t.goal_id,
@@ -482,24 +504,24 @@ class ActionServer:
         assert self.feedback_pub is not None
         self.feedback_pub.publish(af)
 
-    def _handle(self, tracker: GoalTracker, goal: Any) -> ServerGoalHandle:
+    def _handle(self, tracker: GoalTracker, goal: Message) -> ServerGoalHandle:
         h = self._handles.get(tracker.serial)
         if h is None:
             h = self._handles[tracker.serial] = ServerGoalHandle(self, tracker, goal)
         return h
 
     # -- incoming messages ----------------------------------------------------------------
-    def _internal_goal_callback(self, goal: Any) -> Any:
+    def _internal_goal_callback(self, goal: Message) -> CallbackGenerator | None:
         node = self.node
         if not self.started:
             misuse(node, self.ns, f"goal {goal.goal_id.id!r} ignored: the action server {self.ns} "
                    "is not started (call start())", level=WARN)
             return None
-        out = receive_goal(self._goals, goal.goal_id.id, goal.goal_id.stamp.to_nsec(), self._now(),
-                           self._ids)
+        out = receive_goal(self._goals, goal.goal_id.id,
+                           time_to_ns(goal.goal_id.stamp, "goal stamp"), self._now_ns(), self._ids)
         t = out.tracker
         node.world.record("action.server.goal", node.name, ns=self.ns, id=t.goal_id,
-                          stamp=t.stamp, arrival=out.arrival.value)
+                          stamp=t.stamp_ns, arrival=out.arrival.value)
         if out.arrival is GoalArrival.NEW or out.arrival is GoalArrival.CANCELED_BY_STAMP:
             gh = self._handle(t, goal)
         tr = out.transition
@@ -516,17 +538,17 @@ class ActionServer:
             return run_user_callbacks([(self.goal_callback, (gh,))])
         return None
 
-    def _internal_cancel_callback(self, goal_id: Any) -> Any:
+    def _internal_cancel_callback(self, goal_id: Message) -> CallbackGenerator | None:
         node = self.node
         if not self.started:
             misuse(node, self.ns, f"cancel request {goal_id.id!r} ignored: the action server "
                    f"{self.ns} is not started (call start())", level=WARN)
             return None
-        request = CancelRequest(goal_id.id, goal_id.stamp.to_nsec())
+        request = CancelRequest(goal_id.id, time_to_ns(goal_id.stamp, "cancel stamp"))
         before = {t.goal_id: t for t in self._goals.trackers}
-        out = receive_cancel(self._goals, request, self._now())
+        out = receive_cancel(self._goals, request, self._now_ns())
         node.world.record("action.server.cancel", node.name, ns=self.ns, id=request.id,
-                          stamp=request.stamp, matched=list(out.matched),
+                          stamp=request.stamp_ns, matched=list(out.matched),
                           requested=list(out.cancel_requested),
                           placeholder=out.placeholder is not None)
         for tr, gid in zip([x for x in out.transitions if x.legal], out.cancel_requested):
@@ -534,7 +556,7 @@ class ActionServer:
                               event=tr.event.ros_method, before=tr.before.name,
                               after=tr.after.name, text=before[gid].text if gid in before else "")
         self._commit(out.goals, out.publications, None)
-        calls: list[tuple[Callable[..., Any] | None, tuple[Any, ...]]] = []
+        calls: list[UserCall] = []
         for gid in out.cancel_requested:
             h = next((h for h in self._handles.values() if h._id() == gid), None)
             if h is not None:

@@ -40,15 +40,16 @@ ddes keeps exactly that timing.
 from __future__ import annotations
 
 import traceback
-from collections.abc import Callable, Generator
+from collections.abc import Callable
 from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
-from ddes.actionlib._common import misuse, run_user_callbacks
+from ddes.actionlib._common import CallbackGenerator, UserCall, misuse, run_user_callbacks
 from ddes.actionlib.server import AUTO_START_WARNING, ActionServer, ServerGoalHandle
 from ddes.actionlib.states import GoalStatus
 from ddes.errors import DdesTypeError, ROSActionException
 from ddes.graph.rosout import WARN
+from ddes.msg.message import Message
 
 if TYPE_CHECKING:
     import simpy
@@ -60,6 +61,11 @@ __all__ = [
     "NO_TERMINAL_STATE_WARNING",
     "SimpleActionServer",
 ]
+
+#: ``execute_cb(goal)``: a plain function, or a generator that takes simulated time.
+ExecuteCallback = Callable[[Message], object]
+#: ``goal_cb()`` / ``preempt_cb()``: a plain function, or a generator.
+SimpleServerCallback = Callable[[], object]
 
 #: The status text of a goal the execute callback left active.
 NO_TERMINAL_STATE_TEXT = "No terminal state was set."
@@ -75,16 +81,17 @@ _ACCEPTED_TEXT = "This goal has been accepted by the simple action server"
 _KERNEL_WAIT_NS = 100_000_000  # the execute loop's condition wait: 0.1 s (wall, the kernel clock)
 
 
-def _stamp(gh: ServerGoalHandle) -> int:
+def _stamp_ns(gh: ServerGoalHandle) -> int:
     t = gh.tracker
-    return 0 if t is None else t.stamp
+    return 0 if t is None else t.stamp_ns
 
 
 class SimpleActionServer:
     """``SimpleActionServer(node, name, ActionSpec, execute_cb=None, auto_start=True)``."""
 
-    def __init__(self, node: Node, name: str, ActionSpec: Any,  # noqa: N803 - rospy's name
-                 execute_cb: Callable[[Any], Any] | None = None, auto_start: bool = True) -> None:
+    def __init__(self, node: Node, name: str,
+                 ActionSpec: type[Message] | str,  # noqa: N803 - rospy's name
+                 execute_cb: ExecuteCallback | None = None, auto_start: bool = True) -> None:
         if execute_cb is not None and not callable(execute_cb):
             raise DdesTypeError(f"execute_cb must be callable or None, got {execute_cb!r}")
         self.node = node
@@ -92,8 +99,8 @@ class SimpleActionServer:
         self.preempt_request = False
         self.new_goal_preempt_request = False
         self.execute_callback = execute_cb
-        self.goal_callback: Callable[[], Any] | None = None
-        self.preempt_callback: Callable[[], Any] | None = None
+        self.goal_callback: SimpleServerCallback | None = None
+        self.preempt_callback: SimpleServerCallback | None = None
         self.need_to_terminate = False
         self.action_server = ActionServer(node, name, ActionSpec, self._internal_goal_callback,
                                           self._internal_preempt_callback, auto_start=False)
@@ -124,7 +131,10 @@ class SimpleActionServer:
         self.action_server.stop()
 
     def accept_new_goal(self) -> Any:
-        """Make the next goal current and accept it; returns its ``FooGoal`` (None, logged, if none)."""
+        """Make the next goal current and accept it; returns its ``FooGoal`` (None, logged, if none).
+
+        Typed ``Any``, not ``Message | None``: rospy-style callers read fields of it at once.
+        """
         if not self.new_goal or self.next_goal.get_goal() is None:
             misuse(self.node, self.ns,
                    "Attempting to accept the next goal when a new goal is not available")
@@ -151,30 +161,30 @@ class SimpleActionServer:
         """True while the current goal is ACTIVE or PREEMPTING."""
         return self.current_goal.status in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING)
 
-    def get_default_result(self) -> Any:
+    def get_default_result(self) -> Message:
         """A default-constructed ``FooResult``."""
         return self.action_server.ActionResultType()
 
-    def set_succeeded(self, result: Any = None, text: str = "") -> None:
+    def set_succeeded(self, result: Message | None = None, text: str = "") -> None:
         """The current goal SUCCEEDED (result None: a default result)."""
         self.current_goal.set_succeeded(result if result is not None else
                                         self.get_default_result(), text)
 
-    def set_aborted(self, result: Any = None, text: str = "") -> None:
+    def set_aborted(self, result: Message | None = None, text: str = "") -> None:
         """The current goal ABORTED."""
         self.current_goal.set_aborted(result if result is not None else
                                       self.get_default_result(), text)
 
-    def set_preempted(self, result: Any = None, text: str = "") -> None:
+    def set_preempted(self, result: Message | None = None, text: str = "") -> None:
         """The current goal PREEMPTED (``set_canceled``; RECALLED if it was never accepted)."""
         self.current_goal.set_canceled(result if result is not None else
                                        self.get_default_result(), text)
 
-    def publish_feedback(self, feedback: Any) -> None:
+    def publish_feedback(self, feedback: Message) -> None:
         """Feedback for the current goal."""
         self.current_goal.publish_feedback(feedback)
 
-    def register_goal_callback(self, cb: Callable[[], Any]) -> None:
+    def register_goal_callback(self, cb: SimpleServerCallback) -> None:
         """The goal callback (refused, with ROS's warning, when an execute callback exists)."""
         if self.execute_callback is not None:
             misuse(self.node, self.ns, "Cannot call SimpleActionServer.register_goal_callback() "
@@ -182,7 +192,7 @@ class SimpleActionServer:
         else:
             self.goal_callback = cb
 
-    def register_preempt_callback(self, cb: Callable[[], Any]) -> None:
+    def register_preempt_callback(self, cb: SimpleServerCallback) -> None:
         """The preempt callback."""
         self.preempt_callback = cb
 
@@ -198,17 +208,17 @@ class SimpleActionServer:
         self.node.world.record("action.simple.preempt_request", self.node.name, ns=self.ns,
                                id=None if t is None else t.goal_id, reason=why)
 
-    def _internal_goal_callback(self, goal: ServerGoalHandle) -> Any:
+    def _internal_goal_callback(self, goal: ServerGoalHandle) -> CallbackGenerator | None:
         cur, nxt = self.current_goal, self.next_goal
-        stamp = _stamp(goal)
-        if ((cur.get_goal() is None or stamp >= _stamp(cur))
-                and (nxt.get_goal() is None or stamp >= _stamp(nxt))):
+        stamp_ns = _stamp_ns(goal)
+        if ((cur.get_goal() is None or stamp_ns >= _stamp_ns(cur))
+                and (nxt.get_goal() is None or stamp_ns >= _stamp_ns(nxt))):
             if nxt.get_goal() is not None and (cur.get_goal() is None or nxt != cur):
                 nxt.set_canceled(None, _REPLACED_TEXT)
             self.next_goal = goal
             self.new_goal = True
             self.new_goal_preempt_request = False
-            calls: list[tuple[Callable[..., Any] | None, tuple[Any, ...]]] = []
+            calls: list[UserCall] = []
             if self.is_active():
                 self._preempt_requested(cur, "new goal")
                 calls.append((self.preempt_callback, ()))
@@ -226,7 +236,7 @@ class SimpleActionServer:
         goal.set_canceled(None, _REPLACED_TEXT)
         return None
 
-    def _finish_goal_callbacks(self, gen: Generator[Any, Any, None]) -> Generator[Any, Any, None]:
+    def _finish_goal_callbacks(self, gen: CallbackGenerator) -> CallbackGenerator:
         try:
             yield from gen
         except Exception as exc:  # noqa: BLE001 - rospy catches and logs it here
@@ -235,7 +245,7 @@ class SimpleActionServer:
             return
         self._notify()
 
-    def _internal_preempt_callback(self, preempt: ServerGoalHandle) -> Any:
+    def _internal_preempt_callback(self, preempt: ServerGoalHandle) -> CallbackGenerator | None:
         if preempt == self.current_goal:
             self._preempt_requested(preempt, "cancel")
             return run_user_callbacks([(self.preempt_callback, ())])
@@ -247,7 +257,7 @@ class SimpleActionServer:
         return None
 
     # -- the execute loop -----------------------------------------------------------------
-    def _execute_loop(self) -> Generator[Any, Any, None]:
+    def _execute_loop(self) -> CallbackGenerator:
         node = self.node
         env = node.world.env
         while not node.is_shutdown() and not self.need_to_terminate:
@@ -257,14 +267,15 @@ class SimpleActionServer:
             waits: list[simpy.Event] = []
             if self.is_new_goal_available():
                 goal = self.accept_new_goal()
-                yield from self._run_execute(goal)
+                if goal is not None:  # always: a new goal comes with its goal message
+                    yield from self._run_execute(goal)
                 waits.append(env.timeout(_KERNEL_WAIT_NS))
             if node.is_shutdown() or self.need_to_terminate:
                 return
             self._wake = env.event()
             yield env.any_of([self._wake, node.spin(), *waits])
 
-    def _run_execute(self, goal: Any) -> Generator[Any, Any, None]:
+    def _run_execute(self, goal: Message) -> CallbackGenerator:
         node = self.node
         assert self.execute_callback is not None
         gid = self.current_goal.tracker.goal_id if self.current_goal.tracker else None

@@ -6,7 +6,6 @@ import argparse
 import os
 import sys
 from pathlib import Path
-from typing import Any
 
 from ddes.console.shell import interact, run_script
 from ddes.errors import ROSConsoleError
@@ -47,7 +46,7 @@ def main(args: argparse.Namespace) -> int:
     return interact(console, _history_file())
 
 
-def register(sub: Any) -> None:
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``ddes console`` to the ``ddes`` command."""
     p = sub.add_parser("console", help="interactive ROS console on a simulated roscore",
                        description="A roscore on simulated time with rosrun, roslaunch, "

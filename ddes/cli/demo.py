@@ -6,11 +6,14 @@ printed at the end is the same on every machine.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Generator
-from typing import Any
+from collections.abc import Callable
 
-from ddes.graph.world import World
+from simpy.events import ProcessGenerator
+
 from ddes.graph.timer import TimerEvent
+from ddes.graph.world import World
+from ddes.msg.message import Message
+from ddes.time import SimClock, Time, ns_to_sec, to_ns
 
 __all__ = ["build_demo", "run_demo"]
 
@@ -20,7 +23,7 @@ def _time_section(world: World, out: Callable[[str], None]) -> None:
     loop = world.create_node("rate_loop")
     rate = loop.create_rate(4)
 
-    def main() -> Generator[Any, Any, None]:
+    def main() -> ProcessGenerator:
         for i in range(4):
             out(f"[{loop.get_time():7.3f}] rate_loop: cycle {i} (rospy.Rate 4 Hz)")
             if i == 1:
@@ -31,32 +34,29 @@ def _time_section(world: World, out: Callable[[str], None]) -> None:
 
     def on_timer(ev: TimerEvent) -> None:
         last = "None" if ev.last_expected is None else f"{ev.last_expected.to_sec():.3f}"
-        out(
-            f"[{ev.current_real.to_sec():7.3f}] timer: expected {ev.current_expected.to_sec():.3f}"
-            f" last_expected {last}"
-        )
+        out(f"[{ev.current_real.to_sec():7.3f}] timer: expected {ev.current_expected.to_sec():.3f}"
+            f" last_expected {last}")
 
     ticker = world.create_node("ticker")
     ticker.create_timer(0.4, on_timer)
 
     sim = world.create_node("sim_listener", use_sim_time=True)
 
-    def sim_main() -> Generator[Any, Any, None]:
-        out(f"[{world.now / 1e9:7.3f}] sim_listener: ROS time {sim.get_time():.3f} before /clock")
+    def sim_main() -> ProcessGenerator:
+        out(f"[{ns_to_sec(world.now):7.3f}] sim_listener: ROS time {sim.get_time():.3f} before /clock")
         yield sim.sleep(0.5)  # waits for the first /clock, then 0.5 s of /clock time
-        out(
-            f"[{world.now / 1e9:7.3f}] sim_listener: woke at ROS time {sim.get_time():.3f}, "
-            f"wall {sim.get_walltime().to_sec():.3f}"
-        )
+        out(f"[{ns_to_sec(world.now):7.3f}] sim_listener: woke at ROS time {sim.get_time():.3f}, "
+            f"wall {sim.get_walltime().to_sec():.3f}")
 
     sim.process(sim_main())
 
-    def clock_driver() -> Generator[Any, Any, None]:
+    def clock_driver() -> ProcessGenerator:
         # Stands in for `rosbag play --clock`: /clock runs at 2x from t=100 s.
         yield world.timeout(0.5)
+        clock = sim.clock
+        assert isinstance(clock, SimClock)
         for k in range(8):
-            assert isinstance(sim.clock, object)
-            sim.clock.update(int(100e9 + k * 0.2e9))  # type: ignore[attr-defined]
+            clock.update(Time.from_nsec(to_ns(100) + k * to_ns(0.2)))
             yield world.timeout(0.1)
 
     world.process(clock_driver())
@@ -75,7 +75,7 @@ def _topics_section(world: World, out: Callable[[str], None]) -> None:
     # the same seed and the same messages are lost at the same instants.
     world.set_link("/chatter", latency=lambda rng: rng.uniform(0.002, 0.02), loss=0.1)
 
-    def main() -> Generator[Any, Any, None]:
+    def main() -> ProcessGenerator:
         rate = talker.create_rate(5)
         while not talker.is_shutdown():
             pub.publish(f"hello world {talker.get_time():.1f}")
@@ -93,7 +93,7 @@ def _services_section(world: World, out: Callable[[str], None]) -> None:
     two_ints = get_service_class("roscpp_tutorials/TwoInts")
     server = world.create_node("add_two_ints_server")
 
-    def add(req: Any) -> Generator[Any, Any, Any]:
+    def add(req: Message) -> ProcessGenerator:
         if req.a < 0:
             raise ServiceException("negative numbers are not supported")
         yield server.sleep(0.05)  # the handler takes 50 ms of simulated time
@@ -102,20 +102,20 @@ def _services_section(world: World, out: Callable[[str], None]) -> None:
     Service(server, "add_two_ints", two_ints, add)
     client = world.create_node("add_two_ints_client")
 
-    def main() -> Generator[Any, Any, None]:
+    def main() -> ProcessGenerator:
         yield client.sleep(1.0)
         yield wait_for_service(client, "add_two_ints", timeout=1.0)
         proxy = ServiceProxy(client, "add_two_ints", two_ints)
         resp = yield proxy(10, 5)
-        out(f"[{world.now / 1e9:7.3f}] client: 10 + 5 = {resp.sum}")
+        out(f"[{ns_to_sec(world.now):7.3f}] client: 10 + 5 = {resp.sum}")
         try:
             yield proxy(-1, 5)
         except ServiceException as exc:
-            out(f"[{world.now / 1e9:7.3f}] client: ServiceException: {exc}")
+            out(f"[{ns_to_sec(world.now):7.3f}] client: ServiceException: {exc}")
         try:
             yield proxy.call(two_ints._request_class(1, 2), timeout=0.01)
         except ServiceException as exc:
-            out(f"[{world.now / 1e9:7.3f}] client: {type(exc).__name__}: {exc}")
+            out(f"[{ns_to_sec(world.now):7.3f}] client: {type(exc).__name__}: {exc}")
 
     client.process(main())
 
@@ -131,7 +131,7 @@ def _actions_section(world: World, out: Callable[[str], None]) -> None:
     result_cls = get_message_class("actionlib_tutorials/FibonacciResult")
     node = world.create_node("fibonacci")
 
-    def execute(goal: Any) -> Generator[Any, Any, None]:
+    def execute(goal: Message) -> ProcessGenerator:
         seq = [0, 1]
         for i in range(1, goal.order):
             if server.is_preempt_requested():
@@ -147,14 +147,14 @@ def _actions_section(world: World, out: Callable[[str], None]) -> None:
     first = SimpleActionClient(world.create_node("first_client"), "fibonacci", action)
     second = SimpleActionClient(world.create_node("second_client"), "fibonacci", action)
 
-    def report(who: str) -> Callable[[int, Any], None]:
-        def done(state: int, result: Any) -> None:
+    def report(who: str) -> Callable[[int, Message | None], None]:
+        def done(state: int, result: Message | None) -> None:
             n = len(result.sequence) if result is not None else 0
-            out(f"[{world.now / 1e9:7.3f}] {who}: goal {GoalStatus(state).name}, "
+            out(f"[{ns_to_sec(world.now):7.3f}] {who}: goal {GoalStatus(state).name}, "
                 f"{n} numbers")
         return done
 
-    def main() -> Generator[Any, Any, None]:
+    def main() -> ProcessGenerator:
         yield first.wait_for_server(1.0)
         first.send_goal(goal_cls(order=8), done_cb=report("first_client"))
         yield world.timeout(0.35)
@@ -169,10 +169,10 @@ def _bags_section(world: World, out: Callable[[str], None]) -> None:
 
     rec = Recorder(world, ["/chatter"], duration=1.5, in_memory=True, quiet=True)
 
-    def report() -> Generator[Any, Any, None]:
+    def report() -> ProcessGenerator:
         yield rec.done
         bag = rec.bag
-        out(f"[{world.now / 1e9:7.3f}] rosbag record: {bag.get_message_count()} messages on "
+        out(f"[{ns_to_sec(world.now):7.3f}] rosbag record: {bag.get_message_count()} messages on "
             f"/chatter between {bag.get_start_time():.3f} s and {bag.get_end_time():.3f} s")
 
     world.process(report())
@@ -199,7 +199,7 @@ def run_demo(seed: int = 0, until: float = 2.0, out: Callable[[str], None] = pri
     stats = world.topic_stats("/chatter")
     out(f"/chatter: published {stats['published']}, lost {stats['lost']}, "
         f"delivered {stats['delivered']}")
-    out(f"simulated {world.now / 1e9:.3f} s; {len(world.trace)} trace events")
+    out(f"simulated {ns_to_sec(world.now):.3f} s; {len(world.trace)} trace events")
     digest = world.digest()
     out(f"trace digest: {digest}")
     return digest

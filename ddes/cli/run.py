@@ -24,9 +24,13 @@ import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import DdesError, ROSConsoleError
+from ddes.time.units import ns_to_sec
+
+if TYPE_CHECKING:
+    from ddes.graph.world import World
 
 __all__ = ["register", "run_launch", "run_scenario"]
 
@@ -64,24 +68,24 @@ def _print_line(text: str) -> None:
 
 
 def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
-               out: Callable[[str], None] = _print_line) -> Any:
+               out: Callable[[str], None] = _print_line) -> World:
     """Run a launch file (``PKG FILE`` or ``PATH`` plus ``arg:=value``) for ``until`` seconds.
 
     Returns the world (for its trace and digest).
     """
-    from ddes.world import World
     from ddes.launch import load_launch, resolve_launch_args
     from ddes.launch.runtime import LaunchRunner, LogRouter
     from ddes.rospack import env_package_path
+    from ddes.world import World as FacadeWorld
 
-    world = World(seed=seed, package_path=env_package_path(os.environ))
+    world = FacadeWorld(seed=seed, package_path=env_package_path(os.environ))
     rospack = world.rospack
     path, args = resolve_launch_args(list(argv), rospack)
     plan = load_launch(path, args, rospack, anon_seed=world.rng_for("roslaunch"))
     router = LogRouter(world, out).install()
     runner = LaunchRunner(world, plan, rospack=rospack, out=out, router=router)
     runner.start()
-    deadline = world.env.timeout(int(round(until * 1e9)))
+    deadline = world.timeout(until)
     world.env.run(until=world.env.any_of([runner.finished, deadline]))
     if not runner.done:
         runner.shutdown()
@@ -89,10 +93,10 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
 
 
 def run_scenario(path: str | Path, *, until: float, seed: int = 0,
-                 out: Callable[[str], None] = _print_line) -> Any:
+                 out: Callable[[str], None] = _print_line) -> World:
     """Run a Python scenario file (``def scenario(world)``) for ``until`` simulated seconds."""
     from ddes.rospack import env_package_path
-    from ddes.world import World
+    from ddes.world import World as FacadeWorld
 
     file = Path(path)
     if not file.is_file():
@@ -106,19 +110,19 @@ def run_scenario(path: str | Path, *, until: float, seed: int = 0,
     if not callable(scenario):
         raise ROSConsoleError(f"{path} must define 'def scenario(world): ...' (it sets up the "
                               "world's nodes; ddes run then runs the world)")
-    world = World(seed=seed, package_path=env_package_path(os.environ))
+    world = FacadeWorld(seed=seed, package_path=env_package_path(os.environ))
     world.log_output = lambda line, level: out(line)
     scenario(world)
     world.run(until=until)
     return world
 
 
-def _summary(world: Any, out: Callable[[str], None]) -> None:
-    out(f"simulated {world.now / 1e9:.3f} s; {len(world.trace)} trace events")
+def _summary(world: World, out: Callable[[str], None]) -> None:
+    out(f"simulated {ns_to_sec(world.now):.3f} s; {len(world.trace)} trace events")
     out(f"trace digest: {world.digest()}")
 
 
-def _guard(fn: Callable[[], Any]) -> int:
+def _guard(fn: Callable[[], None]) -> int:
     try:
         fn()
     except DdesError:
@@ -152,7 +156,7 @@ def _main_roslaunch(args: argparse.Namespace) -> int:
     return _guard(go)
 
 
-def register(sub: Any) -> None:
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``ddes run`` and ``ddes roslaunch`` to the ``ddes`` command."""
     p = sub.add_parser("run", help="run a scenario (launch file or Python) and print its digest",
                        description="Run a launch file, or a Python file defining "

@@ -29,7 +29,7 @@ import os
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 from ddes.errors import (
     DdesError,
@@ -40,7 +40,11 @@ from ddes.errors import (
 )
 
 if TYPE_CHECKING:
+    import simpy
+    from _typeshed import SupportsWrite
+
     from ddes.console.tooling import ToolContext
+    from ddes.console.toolkit import Task
 
 __all__ = ["TOOLS", "register", "rosbag_main", "run"]
 
@@ -57,8 +61,8 @@ _COMMANDS = {
 
 @dataclass
 class _IO:
-    out: Callable[[str], Any]
-    err: Callable[[str], Any]
+    out: Callable[[str], None]
+    err: Callable[[str], None]
     ctx: ToolContext | None
 
 
@@ -71,8 +75,8 @@ class _Exit(Exception):
 class _Parser(argparse.ArgumentParser):
     """argparse that writes through the tool's sinks and never calls sys.exit."""
 
-    def __init__(self, io: _IO, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
+    def __init__(self, io: _IO, *, prog: str, usage: str, description: str) -> None:
+        super().__init__(prog=prog, usage=usage, description=description)
         self._io = io
 
     def error(self, message: str) -> NoReturn:
@@ -85,7 +89,7 @@ class _Parser(argparse.ArgumentParser):
             self._io.err(message.rstrip())
         raise _Exit(status)
 
-    def print_help(self, file: Any = None) -> None:
+    def print_help(self, file: SupportsWrite[str] | None = None) -> None:
         self._io.out(self.format_help().rstrip())
 
 
@@ -305,15 +309,15 @@ def _record(io: _IO, argv: list[str]) -> int:
     return run_task(ctx, task, background=background, duration=None, waiting_for=ends)
 
 
-def _task(ctx: ToolContext, cmd: str, argv: list[str], done: Any, stop: Callable[[], Any],
-          io: _IO) -> Any:
+def _task(ctx: ToolContext, cmd: str, argv: list[str], done: simpy.Event,
+          stop: Callable[[], None], io: _IO) -> Task:
     """A console Task following a recorder or player: stopping it stops them."""
     from ddes.console.toolkit import Task, command_label
 
     task = Task(ctx.world, command_label("rosbag", [cmd, *argv]))
     task.on_stop(stop)
 
-    def ended(ev: Any) -> None:
+    def ended(ev: simpy.Event) -> None:
         if not ev.ok:
             ev.defused = True
             io.err(f"ERROR: {ev.value}")
@@ -415,7 +419,7 @@ def _usage() -> str:
     return "\n".join(lines)
 
 
-def run(argv: Sequence[str], out: Callable[[str], Any], err: Callable[[str], Any],
+def run(argv: Sequence[str], out: Callable[[str], None], err: Callable[[str], None],
         ctx: ToolContext | None = None) -> int:
     """Run ``rosbag ARGV``; ``ctx`` (a ToolContext) enables ``record`` and ``play``."""
     argv = list(argv)
@@ -461,7 +465,7 @@ def rosbag_main(args: argparse.Namespace) -> int:
     return run(args.argv, print, lambda line: print(line, file=sys.stderr))
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``ddes rosbag`` (info, filter, compress, decompress, reindex on files)."""
     tool = subparsers.add_parser(
         "rosbag", add_help=False, prefix_chars="+",

@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from typing import Any
 
 from ddes.errors import InvalidMsgSpec, MsgNotFound
 from ddes.msg.registry import MessageRegistry
@@ -178,7 +177,7 @@ def main(args: argparse.Namespace) -> int:
         return 1
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``rosmsg`` and ``rossrv`` subcommands to the ``ddes`` parser."""
     for mode in ("msg", "srv"):
         kind = "message" if mode == "msg" else "service"

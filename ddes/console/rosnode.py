@@ -20,8 +20,7 @@ to purge (every registration belongs to a live node).
 
 from __future__ import annotations
 
-from collections.abc import Generator
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.console.toolkit import (
     HelpPrinted,
@@ -38,8 +37,12 @@ from ddes.console.toolkit import (
 )
 from ddes.errors import ROSConsoleError
 from ddes.graph.names import make_global_ns
+from ddes.time.rostime import Duration
+from ddes.time.units import ns_to_sec, to_ns
 
 if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
+
     from ddes.console.tooling import ToolContext
     from ddes.graph.world import World
 
@@ -214,7 +217,7 @@ def _ping(ctx: ToolContext, argv: list[str]) -> int:
         for n in nodes:
             ctx.print(f"pinging {n} with a timeout of 3.0s")
             ctx.print(f"xmlrpc reply from {node_uri(n)}\ttime={_rtt_ms(world):f}ms")
-            ctx.advance(world.connect_delay / 1e9)
+            world.run_for(Duration.from_nsec(world.connect_delay_ns))
         return 0
     if not args:
         parser.error("Please enter a node to ping. Available nodes are:\n"
@@ -233,7 +236,7 @@ def _ping(ctx: ToolContext, argv: list[str]) -> int:
     ctx.print(f"pinging {name} with a timeout of 3.0s")
     results: list[float] = []
 
-    def pinger() -> Generator[Any, Any, None]:
+    def pinger() -> ProcessGenerator:
         while not task.done:
             if world.master.lookup_node(name) is None:
                 ctx.eprint(f"cannot ping [{name}]: unknown node")
@@ -241,14 +244,14 @@ def _ping(ctx: ToolContext, argv: list[str]) -> int:
                 task.finish(1)
                 return
             rtt = _rtt_ms(world)
-            yield world.env.timeout(world.connect_delay)
+            yield world.timeout_ns(world.connect_delay_ns)
             results.append(rtt)
             ctx.print(f"xmlrpc reply from {node_uri(name)}\ttime={rtt:f}ms")
             if count is not None and len(results) >= count:
                 average()
                 task.finish(0)
                 return
-            yield world.env.timeout(1_000_000_000 - world.connect_delay)
+            yield world.timeout_ns(to_ns(1) - world.connect_delay_ns)
 
     def average() -> None:
         if len(results) > 1:
@@ -261,7 +264,7 @@ def _ping(ctx: ToolContext, argv: list[str]) -> int:
 
 
 def _rtt_ms(world: World) -> float:
-    return world.connect_delay / 1e6
+    return ns_to_sec(world.connect_delay_ns) * 1000.0  # milliseconds
 
 
 def _machine(ctx: ToolContext, argv: list[str]) -> int:

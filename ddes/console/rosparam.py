@@ -13,15 +13,17 @@ YAML document of a file into a namespace (``_ns`` keys honoured,
 
 from __future__ import annotations
 
+import optparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import yaml
 
 from ddes.console.toolkit import HelpPrinted, ToolParser, script_resolve_name
 from ddes.errors import DdesError, ROSConsoleError, ROSParamException
 from ddes.graph.names import GLOBALNS, make_global_ns, ns_join
+from ddes.launch.values import ParamValue
 
 if TYPE_CHECKING:
     from ddes.console.tooling import ToolContext
@@ -41,7 +43,7 @@ Commands:
 """
 
 
-def get_text(value: Any) -> str:
+def get_text(value: ParamValue) -> str:
     """What ``rosparam get`` writes for ``value`` (``yaml.dump`` minus ``...``, plus a newline)."""
     dump = yaml.dump(value)
     if dump.endswith("\n...\n"):
@@ -49,7 +51,7 @@ def get_text(value: Any) -> str:
     return dump + "\n"
 
 
-def pretty_text(value: dict[str, Any], indent: str = "") -> str:
+def pretty_text(value: dict[str, ParamValue], indent: str = "") -> str:
     """What ``rosparam get -p`` writes for a dict (rosparam's ``_pretty_print``)."""
     out: list[str] = []
     for k in sorted(value):
@@ -71,7 +73,7 @@ def pretty_text(value: dict[str, Any], indent: str = "") -> str:
     return "".join(out)
 
 
-def dump_text(value: Any) -> str:
+def dump_text(value: ParamValue) -> str:
     """What ``rosparam dump`` writes (``yaml.dump`` of the tree)."""
     return yaml.dump(value)
 
@@ -85,13 +87,14 @@ def _write(ctx: ToolContext, text: str) -> None:
     ctx.print(text)
 
 
-def _get(params: ParamServer, key: str) -> Any:
+def _get(params: ParamServer, key: str) -> ParamValue:
     if not params.has_param(key):
         raise ROSParamException(f"Parameter [{key}] is not set")
     return params.get_param(key)
 
 
-def _set_raw(params: ParamServer, key: str, value: Any, verbose: bool, ctx: ToolContext) -> None:
+def _set_raw(params: ParamServer, key: str, value: ParamValue, verbose: bool,
+             ctx: ToolContext) -> None:
     """rosparam's ``set_param_raw``: dicts are merged key by key."""
     if type(value) is dict:
         for k, v in value.items():
@@ -109,16 +112,16 @@ def _set_raw(params: ParamServer, key: str, value: Any, verbose: bool, ctx: Tool
     except DdesError as exc:
         raise ROSParamException(str(exc)) from None
     if verbose:
-        ctx.print(f"set parameter [{key}] to [{value}]")
+        ctx.print(f"set parameter [{key}] to [{value!s}]")  # bytes print as b'...'
 
 
-def _print_params(ctx: ToolContext, params: Any, ns: str) -> None:
+def _print_params(ctx: ToolContext, params: ParamValue, ns: str) -> None:
     if type(params) is dict:
         for k, v in params.items():
             if type(v) is dict:
                 _print_params(ctx, v, ns_join(ns, k))
             else:
-                ctx.print(f"{ns_join(ns, k)}={v}")
+                ctx.print(f"{ns_join(ns, k)}={v!s}")
     else:
         ctx.print(str(params))
 
@@ -151,11 +154,10 @@ def _get_dump(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
         if options.verbose:
             ctx.print(f"getting parameter [{key}]")
         val = _get(params, key)
-        if options.pretty and type(val) in (dict, str):
-            if type(val) is dict:
-                _write(ctx, pretty_text(val))
-            else:
-                ctx.print(val)
+        if options.pretty and type(val) is dict:
+            _write(ctx, pretty_text(val))
+        elif options.pretty and type(val) is str:
+            ctx.print(val)
         else:
             _write(ctx, get_text(val))
         return 0
@@ -239,7 +241,7 @@ def _set_load(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
     return 0
 
 
-def _neg_args(parser: ToolParser, argv: list[str]) -> tuple[Any, list[str]]:
+def _neg_args(parser: ToolParser, argv: list[str]) -> tuple[optparse.Values, list[str]]:
     """rosparam's option split that lets ``rosparam set x -1`` take -1 as a value."""
     args: list[str] = []
     opt_args: list[str] = []

@@ -23,7 +23,7 @@ at the current instant (its start-up, first publish, first log line).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.console.toolkit import (
     HelpPrinted,
@@ -181,8 +181,8 @@ def time(ctx: ToolContext, argv: list[str]) -> int:
 
 def format_time(world: World) -> str:
     """The world's time as ``secs.nanoseconds`` (``12.300000000``)."""
-    secs, nsecs = divmod(world.now, 1_000_000_000)
-    return f"{secs}.{nsecs:09d}"
+    t = world.time()
+    return f"{t.secs}.{t.nsecs:09d}"
 
 
 def format_job(job: Job, state: str) -> str:
@@ -204,7 +204,7 @@ def jobs(ctx: ToolContext, argv: list[str]) -> int:
 
 
 def _reported(job: Job) -> bool:
-    proc: Any = job.process
+    proc = job.process
     return bool(proc.reported if isinstance(proc, Task) else getattr(job, "_ddes_reported", False))
 
 

@@ -43,9 +43,11 @@ from ddes.errors import DdesError, ROSMessageException, ROSSerializationExceptio
 from ddes.graph.names import make_global_ns, resolve_name
 from ddes.msg.convert import default_keys, fill_message_args
 from ddes.time.rostime import Time
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
+    from _typeshed import SupportsWrite
 
     from ddes.console.tooling import ToolContext
     from ddes.graph.master import ServiceEntry
@@ -99,7 +101,7 @@ class _Parser(optparse.OptionParser):
             self.ctx.eprint(msg.rstrip("\n"))
         raise _Exit(status)
 
-    def print_help(self, file: Any = None) -> None:
+    def print_help(self, file: SupportsWrite[str] | None = None) -> None:
         self.ctx.print(self.format_help().rstrip("\n"))
 
 
@@ -243,7 +245,7 @@ def _run(ctx: ToolContext, event: simpy.Event, waiting_for: str) -> Any:
     Stepping (rather than a deadline event) leaves nothing scheduled behind.
     """
     env = ctx.world.env
-    deadline = env.now + int(WAIT_LIMIT * 1e9)
+    deadline = env.now + duration_to_ns(WAIT_LIMIT)
     if not event.processed:
         event.callbacks.append(_defuse)  # a failure is re-raised below, not by the kernel
     while not event.processed:
@@ -264,7 +266,7 @@ def _run(ctx: ToolContext, event: simpy.Event, waiting_for: str) -> Any:
     return event.value
 
 
-def _defuse(ev: Any) -> None:
+def _defuse(ev: simpy.Event) -> None:
     ev.defused = True
 
 

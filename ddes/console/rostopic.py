@@ -43,9 +43,16 @@ from ddes.graph.names import make_global_ns
 
 if TYPE_CHECKING:
     from ddes.console.tooling import ToolContext
+    from ddes.graph.topics import Publisher, Subscriber
     from ddes.graph.world import World
+    from ddes.msg.message import Message
 
-__all__ = ["TOOLS", "get_info_text", "get_topic_type", "msgevalgen", "rostopic"]
+__all__ = ["TOOLS", "MsgEval", "get_info_text", "get_topic_type", "msgevalgen", "rostopic"]
+
+#: Picks a field path (``/pose/position/x``, ``/data[0:2]``) out of a message; None if absent.
+MsgEval = Callable[["Message"], object]
+#: A topic row: (topic, type, node names).
+_TopicRow = tuple[str, str, list[str]]
 
 _EX_USAGE = 64
 
@@ -71,17 +78,22 @@ def _topic_types(world: World) -> list[tuple[str, str]]:
     return world.master.get_topic_types()
 
 
-def _topic_class(world: World, topic: str, type_name: str) -> Any:
-    """The message class of ``topic``: the one its publishers/subscribers use, else the registry's."""
-    from ddes.graph.topics import AnyMsg
+def _topic_class(world: World, topic: str, type_name: str) -> type[Message]:
+    """The message class of ``topic``: the one its publishers/subscribers use, else the registry's.
+
+    Only generated message classes count: not ``AnyMsg``, nor the raw-bytes classes of
+    ``rosbag play``, which carry the type's name but cannot show fields.
+    """
     from ddes.msg import get_message_class
+    from ddes.msg.message import Message
 
     entry = world.master.topics.get(topic)
     if entry is not None:
-        ends: list[Any] = [*entry.publishers, *entry.subscribers]
+        ends: list[Publisher | Subscriber] = [*entry.publishers, *entry.subscribers]
         for end in ends:
-            if end.data_class is not AnyMsg and end.type == type_name:
-                return end.data_class
+            cls = end.data_class
+            if isinstance(cls, type) and issubclass(cls, Message) and end.type == type_name:
+                return cls
     try:
         return get_message_class(type_name)
     except DdesError:
@@ -89,21 +101,20 @@ def _topic_class(world: World, topic: str, type_name: str) -> Any:
             f"Cannot load message class for [{type_name}]. Are your messages built?") from None
 
 
-def _field_class(type_name: str) -> Any:
+def _field_class(type_name: str) -> type[Message]:
     from ddes.msg import get_message_class
 
     return get_message_class(type_name.split("[", 1)[0])
 
 
-def _nested_attribute(msg: Any, attrs: str) -> Any:
-    value = msg
+def _nested_attribute(msg: Message, attrs: str) -> object:
+    value: object = msg
     for attr in attrs.split("/"):
         value = getattr(value, attr)
     return value
 
 
-def get_topic_type(world: World, topic: str) -> tuple[str | None, str | None,
-                                                       Callable[[Any], Any] | None]:
+def get_topic_type(world: World, topic: str) -> tuple[str | None, str | None, MsgEval | None]:
     """``(type, real topic, field evaluator)`` of ``topic`` (a topic or a field path).
 
     An exact topic match wins; otherwise the longest topic that is a prefix
@@ -151,7 +162,7 @@ def _slice(text: str) -> int | slice:
         raise ROSConsoleError(f"non-integer array index or slice '{text}'") from None
 
 
-def msgevalgen(pattern: str) -> Callable[[Any], Any] | None:
+def msgevalgen(pattern: str) -> MsgEval | None:
     """A function picking the field path ``pattern`` (``/pose/position/x``, ``/data[0:2]``) out of a message."""
     evals: list[tuple[str, int | slice | None]] = []
     for f in (f for f in pattern.split("/") if f):
@@ -184,16 +195,15 @@ def msgevalgen(pattern: str) -> Callable[[Any], Any] | None:
 
 
 # -- list / info / type / find -------------------------------------------------------------------
-def _topic_list(world: World) -> tuple[list[tuple[str, str, list[str]]],
-                                        list[tuple[str, str, list[str]]]]:
+def _topic_list(world: World) -> tuple[list[_TopicRow], list[_TopicRow]]:
     types = dict(_topic_types(world))
     pubs, subs, _ = world.master.get_system_state()
     return ([(t, types.get(t, "unknown type"), nodes) for t, nodes in pubs],
             [(t, types.get(t, "unknown type"), nodes) for t, nodes in subs])
 
 
-def _sub_list(ctx: ToolContext, pubs: list[Any], subs: list[Any], publishers_only: bool,
-              subscribers_only: bool, verbose: bool, indent: str = "") -> None:
+def _sub_list(ctx: ToolContext, pubs: list[_TopicRow], subs: list[_TopicRow],
+              publishers_only: bool, subscribers_only: bool, verbose: bool, indent: str = "") -> None:
     if verbose:
         if not subscribers_only:
             ctx.print(f"\n{indent}Published topics:")

@@ -10,12 +10,12 @@ machinery: rostopic's ``--nostr``/``--noarr`` value transform,
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Generator
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from ddes.console.rostopic import _field_class, _topic_class, get_topic_type
+from ddes.console.rostopic import MsgEval, _field_class, _topic_class, get_topic_type
 from ddes.console.toolkit import (
     Task,
     ToolParser,
@@ -28,19 +28,32 @@ from ddes.console.toolkit import (
     take_background,
 )
 from ddes.errors import DdesError, ROSConsoleError, ROSTopicException
+from ddes.time.units import ns_to_sec
 
 if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
+
     from ddes.console.tooling import ToolContext
     from ddes.graph.world import World
+    from ddes.msg.anymsg import AnyMsg
+    from ddes.msg.message import Message
+    from ddes.time.rostime import Time
 
-__all__ = ["TopicHz", "echo", "format_hz", "hz", "pub", "strify_for_echo",
+__all__ = ["TopicHz", "ValueTransform", "echo", "format_hz", "hz", "pub", "strify_for_echo",
            "value_transform_factory"]
 
 _ONCE_DELAY = 3.0
 
+#: rostopic's value transform: ``(message or field value, field type or None) -> shown value``.
+ValueTransform = Callable[[object, "str | None"], object]
+#: A ``--filter`` expression: is the message shown/counted?
+MsgFilter = Callable[["Message | AnyMsg"], bool]
+#: Called once the topic's type is known: ``start(type, real topic, field evaluator)``.
+_Start = Callable[[str, str, "MsgEval | None"], None]
+
 
 # -- echo --------------------------------------------------------------------------------------------
-def value_transform_factory(nostr: bool, noarr: bool) -> Callable[[Any, str | None], Any]:
+def value_transform_factory(nostr: bool, noarr: bool) -> ValueTransform:
     """rostopic's ``create_value_transform``: hide strings and/or arrays of a message."""
     from ddes.msg import Message
 
@@ -53,14 +66,14 @@ def value_transform_factory(nostr: bool, noarr: bool) -> Callable[[Any, str | No
             return f"<array type: string, length: {len(value)}>"
         return value
 
-    def transform(val: Any, type_information: str | None = None) -> Any:
+    def transform(val: object, type_information: str | None = None) -> object:
         if not isinstance(val, Message):
             if type_information is None:
                 return val
             return field_value(val, type_information)
         names = list(val.__slots__)
         types = list(val._slot_types)
-        values: list[Any] = []
+        values: list[object] = []
         for index, (name, ty) in enumerate(zip(names, types)):
             f_val = getattr(val, name)
             new = field_value(f_val, ty)
@@ -71,7 +84,7 @@ def value_transform_factory(nostr: bool, noarr: bool) -> Callable[[Any, str | No
                 values.append(transform(f_val))
             else:
                 values.append(f_val)
-        shown: Any = type("TransformedMessage", (Message,),
+        shown: type[Message] = type("TransformedMessage", (Message,),
                           {"__slots__": tuple(names), "_slot_types": types, "_type": val._type})
         out = object.__new__(shown)
         for name, v in zip(names, values):
@@ -82,8 +95,8 @@ def value_transform_factory(nostr: bool, noarr: bool) -> Callable[[Any, str | No
 
 
 def strify_for_echo(val: Any, type_information: str | None = None,
-                    transform: Callable[[Any, str | None], Any] | None = None,
-                    time_offset: Any = None, fixed_numeric_width: int | None = None) -> str:
+                    transform: ValueTransform | None = None,
+                    time_offset: Time | None = None, fixed_numeric_width: int | None = None) -> str:
     """The text ``rostopic echo`` prints for one message or field value (without ``---``)."""
     from ddes.msg import strify_message
 
@@ -95,7 +108,7 @@ def strify_for_echo(val: Any, type_information: str | None = None,
                           fixed_numeric_width=fixed_numeric_width)
 
 
-def _field_type_information(cls: Any, topic: str, real: str) -> str | None:
+def _field_type_information(cls: type[Message], topic: str, real: str) -> str | None:
     sub = topic[len(real):].strip("/")
     if not sub:
         return None
@@ -117,7 +130,7 @@ def _field_type_information(cls: Any, topic: str, real: str) -> str | None:
     return info
 
 
-def _filter_fn(expr: str | None, topic: str) -> Callable[[Any], bool] | None:
+def _filter_fn(expr: str | None, topic: str) -> MsgFilter | None:
     if not expr:
         return None
     try:
@@ -125,14 +138,14 @@ def _filter_fn(expr: str | None, topic: str) -> Callable[[Any], bool] | None:
     except SyntaxError as exc:
         raise ROSConsoleError(f"invalid --filter expression {expr!r}: {exc.msg}") from None
 
-    def fn(m: Any) -> bool:
+    def fn(m: Message | AnyMsg) -> bool:
         return bool(eval(code, {"__builtins__": __builtins__}, {"m": m, "topic": topic}))
 
     return fn
 
 
 def _wait_for_type(ctx: ToolContext, task: Task, topic: str,
-                   start: Callable[[str, str, Callable[[Any], Any] | None], None]) -> None:
+                   start: _Start) -> None:
     """Call ``start(type, real, eval)`` once ``topic`` is known, polling every 0.1 s as rostopic."""
     world = ctx.world
     type_name, real, msg_eval = get_topic_type(world, topic)
@@ -141,9 +154,9 @@ def _wait_for_type(ctx: ToolContext, task: Task, topic: str,
         return
     ctx.eprint(f"WARNING: topic [{topic}] does not appear to be published yet")
 
-    def poll() -> Generator[Any, Any, None]:
+    def poll() -> ProcessGenerator:
         while not task.done:
-            yield world.env.timeout(100_000_000)
+            yield world.timeout(0.1)
             t, r, e = get_topic_type(world, topic)
             if t is not None and r is not None and not task.done:
                 start(t, r, e)
@@ -218,11 +231,11 @@ def echo(ctx: ToolContext, argv: list[str]) -> int:
         topic = topic[:-1]
     received = [0]
 
-    def start(type_name: str, real: str, msg_eval: Callable[[Any], Any] | None) -> None:
+    def start(type_name: str, real: str, msg_eval: MsgEval | None) -> None:
         cls = _topic_class(world, real, type_name)
         type_information = _field_type_information(cls, topic, real)
 
-        def callback(data: Any) -> None:
+        def callback(data: Message) -> None:
             if task.done or (filter_fn is not None and not filter_fn(data)):
                 return
             value = msg_eval(data) if msg_eval is not None else data
@@ -340,19 +353,19 @@ def hz(ctx: ToolContext, argv: list[str]) -> int:
     stats = {t: TopicHz(window) for t in topics}
 
     def now_sec() -> float:
-        return world.now / 1e9 if options.use_wtime else node.get_time()
+        return ns_to_sec(world.now) if options.use_wtime else node.get_time()
 
     for topic in topics:
         filter_fn = _filter_fn(options.filter_expr, topic)
 
-        def start(type_name: str, real: str, _eval: Any, topic: str = topic,
-                  filter_fn: Callable[[Any], bool] | None = filter_fn) -> None:
+        def start(type_name: str, real: str, _eval: MsgEval | None, topic: str = topic,
+                  filter_fn: MsgFilter | None = filter_fn) -> None:
             from ddes.graph.topics import AnyMsg
 
             cls = _topic_class(world, real, type_name) if filter_fn is not None else AnyMsg
             rt = stats[topic]
 
-            def callback(m: Any) -> None:
+            def callback(m: Message | AnyMsg) -> None:
                 if filter_fn is not None and not filter_fn(m):
                     return
                 line = rt.callback(now_sec())
@@ -368,9 +381,9 @@ def hz(ctx: ToolContext, argv: list[str]) -> int:
         ctx.eprint("WARNING: may be using simulated time")
     done = [0]
 
-    def reporter() -> Generator[Any, Any, None]:
+    def reporter() -> ProcessGenerator:
         while not task.done:
-            yield world.env.timeout(1_000_000_000)
+            yield world.timeout(1)
             if task.done:
                 return
             if len(topics) == 1:
@@ -472,7 +485,7 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
     node = task.own(world.create_node("rostopic", anonymous=True, disable_rosout=True,
                                       use_sim_time=world.use_sim_time and options.use_rostime))
 
-    def fill() -> Any:
+    def fill() -> Message:
         msg = msg_class()
         try:
             fill_message_args(msg, pub_args, default_keys(node.get_rostime()))
@@ -488,7 +501,7 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
         task.finish(1)
         raise
 
-    def publish(m: Any) -> None:
+    def publish(m: Message) -> None:
         try:
             pub.publish(m)
         except DdesError as exc:
@@ -506,14 +519,14 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
             task.finish(1)
             raise
         if options.once:
-            ev = world.env.timeout(int(_ONCE_DELAY * 1e9))
+            ev = world.timeout(_ONCE_DELAY)
             ev.callbacks.append(lambda _ev: task.finish(0))
         return run_task(ctx, task, background=background, duration=duration,
                         waiting_for="3 seconds" if options.once else None)
     hz = rate
     sent = [0]
 
-    def loop() -> Generator[Any, Any, None]:
+    def loop() -> ProcessGenerator:
         r = node.create_rate(hz)
         current = msg
         while not task.done:

@@ -36,11 +36,12 @@ import os
 import shlex
 import sys
 from collections.abc import Callable, Iterable
-from typing import TYPE_CHECKING, Any, TextIO
+from typing import TYPE_CHECKING, TextIO
 
 from ddes.console.tooling import CommandResult, ToolContext, find_tool, tool_names
 from ddes.errors import DdesError, ROSConsoleError
 from ddes.graph.world import World as GraphWorld
+from ddes.time.units import ns_to_sec
 
 if TYPE_CHECKING:
     from ddes.graph.world import World
@@ -152,7 +153,7 @@ class Console:
             return 1
         except Exception as exc:  # noqa: BLE001 - a node's own code failed while the world ran
             ctx.eprint(f"ERROR: {type(exc).__name__} raised while the world ran: "
-                       f"{_one_line(str(exc))} (at t={self.world.now / 1e9:.9f}s)")
+                       f"{_one_line(str(exc))} (at t={ns_to_sec(self.world.now):.9f}s)")
             return 1
 
     def _help(self, args: list[str]) -> int:
@@ -364,7 +365,7 @@ class _Shell(cmd.Cmd):
         self._update_prompt()
 
     def _update_prompt(self) -> None:
-        self.prompt = f"ddes [{self.console.world.now / 1e9:.3f}] $ "
+        self.prompt = f"ddes [{ns_to_sec(self.console.world.now):.3f}] $ "
 
     def preloop(self) -> None:
         try:
@@ -432,7 +433,7 @@ class _Shell(cmd.Cmd):
         self._update_prompt()
         return stop
 
-    def completenames(self, text: str, *ignored: Any) -> list[str]:
+    def completenames(self, text: str, *ignored: object) -> list[str]:
         return _spaced(self.console.complete(text, text))
 
     def completedefault(self, text: str, line: str, begidx: int, endidx: int) -> list[str]:

@@ -29,13 +29,16 @@ import importlib
 import shlex
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol, Union
 
 from ddes.errors import DdesError, ROSConsoleError
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
 
+    from ddes.console.toolkit import Task
+    from ddes.graph.node import Node
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
@@ -55,13 +58,23 @@ TOOL_MODULES: tuple[str, ...] = (
 Tool = Callable[["ToolContext", list[str]], int]
 
 
+class Stoppable(Protocol):
+    """Something with ``stop()`` (a Player, a Recorder, a LaunchRunner)."""
+
+    def stop(self) -> None: ...
+
+
+#: What a background job runs: a console Task, a SimPy process, a node, or something stoppable.
+JobProcess = Union["Task", "simpy.Process", "Node", Stoppable]
+
+
 @dataclass
 class Job:
     """A background process started by a tool (listed by the console's ``jobs``)."""
 
     id: int
     name: str
-    process: Any
+    process: JobProcess
     started_ns: int
 
 
@@ -96,8 +109,7 @@ class ToolContext:
         """
         world = self.world
         if timeout is not None:
-            deadline = world.now + int(round(timeout * 1e9))
-            limit = world.env.timeout(max(0, deadline - world.now))
+            limit = world.env.timeout(max(0, duration_to_ns(timeout, "timeout")))
             world.env.run(until=world.env.any_of([event, limit]))
         else:
             if not event.triggered or not event.processed:
@@ -119,7 +131,7 @@ class ToolContext:
             raise ROSConsoleError(f"cannot advance by a negative time ({seconds})")
         self.world.run_for(seconds)
 
-    def background(self, name: str, process: Any) -> Job:
+    def background(self, name: str, process: JobProcess) -> Job:
         """Keep ``process`` running in the world; returns its job record."""
         job = Job(len(self.jobs) + 1, name, process, self.world.now)
         self.jobs.append(job)

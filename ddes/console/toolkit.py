@@ -19,7 +19,7 @@ from __future__ import annotations
 import optparse
 import shlex
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 import simpy
 
@@ -28,6 +28,8 @@ from ddes.graph.names import resolve_name
 from ddes.launch.runtime import node_pid, node_uri
 
 if TYPE_CHECKING:
+    from _typeshed import SupportsWrite
+
     from ddes.console.tooling import Job, ToolContext
     from ddes.graph.node import Node
     from ddes.graph.world import World
@@ -78,10 +80,10 @@ class ToolParser(optparse.OptionParser):
             raise ROSConsoleError(msg.strip())
         raise HelpPrinted()
 
-    def print_help(self, file: Any = None) -> None:
+    def print_help(self, file: SupportsWrite[str] | None = None) -> None:
         self.ctx.print(self.format_help().rstrip("\n"))
 
-    def print_usage(self, file: Any = None) -> None:
+    def print_usage(self, file: SupportsWrite[str] | None = None) -> None:
         self.ctx.print(self.get_usage().rstrip("\n"))
 
 
@@ -170,7 +172,7 @@ class Task:
         self.code = 0
         self.reported = False
         self._finishing = False
-        self._on_stop: list[Callable[[], Any]] = []
+        self._on_stop: list[Callable[[], None]] = []
 
     @property
     def done(self) -> bool:
@@ -182,7 +184,7 @@ class Task:
         self.nodes.append(node)
         return node
 
-    def on_stop(self, hook: Callable[[], Any]) -> None:
+    def on_stop(self, hook: Callable[[], None]) -> None:
         """Call ``hook()`` when the task is stopped from outside (before its nodes go)."""
         self._on_stop.append(hook)
 
@@ -231,13 +233,13 @@ def job_stop(job: Job) -> None:
         if p.is_alive:
             p.callbacks.append(_defuse)
             p.interrupt("killed")
-    elif callable(getattr(p, "shutdown", None)):
-        p.shutdown("killed")
+    elif callable(shutdown := getattr(p, "shutdown", None)):
+        shutdown("killed")
     else:
         raise ROSConsoleError(f"job [{job.id}] ({job.name}) cannot be stopped")
 
 
-def _defuse(ev: Any) -> None:
+def _defuse(ev: simpy.Event) -> None:
     if not ev.ok and isinstance(ev.value, simpy.Interrupt):
         ev.defused = True
 
@@ -254,7 +256,7 @@ def run_task(ctx: ToolContext, task: Task, *, background: bool, duration: float 
         job = ctx.background(task.label, task)
         ctx.print(f"[{job.id}] {task.label}")
         return 0
-    env = ctx.world.env
+    world = ctx.world
     if duration is None and waiting_for is None:
         task.stop()
         cmd = task.label.split()[0:2]
@@ -263,9 +265,9 @@ def run_task(ctx: ToolContext, task: Task, *, background: bool, duration: float 
             f"(simulated), or end the line with & to keep it running in the background"
         )
     limit = duration if duration is not None else DEFAULT_WAIT_LIMIT
-    deadline = env.timeout(int(round(limit * 1e9)))
+    deadline = world.timeout(limit)
     try:
-        ctx.run_until(env.any_of([task.finished, deadline]))
+        ctx.run_until(world.env.any_of([task.finished, deadline]))
     except BaseException:
         task.stop()
         raise

@@ -39,7 +39,7 @@ import math
 import re
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Literal, TypedDict
 
 from ddes.errors import (
     DdesKeyError,
@@ -51,9 +51,14 @@ from ddes.errors import (
 __all__ = [
     "ALL_LEVELS",
     "Config",
+    "ConfigDescriptionDict",
+    "ConfigMsgDict",
     "ConfigType",
+    "EnumConstant",
     "ParamDescription",
+    "ParamValue",
     "ParameterGenerator",
+    "ReconfigureCallback",
     "ReconfigureCore",
     "bool_t",
     "decode_config",
@@ -70,27 +75,30 @@ bool_t = "bool"
 int_t = "int"
 double_t = "double"
 
+#: The value of a parameter: ``bool_t``, ``int_t``, ``double_t`` or ``str_t``.
+ParamValue = bool | int | float | str
+
 #: The level of the start-up callback (roscpp's 0xFFFFFFFF; rospy's ~0 == -1).
 ALL_LEVELS = 0xFFFFFFFF
 _INT_MIN, _INT_MAX = -0x80000000, 0x7FFFFFFF
-_PYTYPE: dict[str, type] = {str_t: str, int_t: int, double_t: float, bool_t: bool}
-_DEFVAL: dict[str, Any] = {str_t: "", int_t: 0, double_t: 0.0, bool_t: False}
-_MINVAL: dict[str, Any] = {str_t: "", int_t: _INT_MIN, double_t: -math.inf, bool_t: False}
-_MAXVAL: dict[str, Any] = {str_t: "", int_t: _INT_MAX, double_t: math.inf, bool_t: True}
+_PYTYPE: dict[str, type[ParamValue]] = {str_t: str, int_t: int, double_t: float, bool_t: bool}
+_DEFVAL: dict[str, ParamValue] = {str_t: "", int_t: 0, double_t: 0.0, bool_t: False}
+_MINVAL: dict[str, ParamValue] = {str_t: "", int_t: _INT_MIN, double_t: -math.inf, bool_t: False}
+_MAXVAL: dict[str, ParamValue] = {str_t: "", int_t: _INT_MAX, double_t: math.inf, bool_t: True}
 _NAME = re.compile(r"[a-zA-Z][a-zA-Z0-9_]*")
 _REPLY_NONE = "Reconfigure callback should return a possibly updated configuration."
 
 
-class Config(dict):  # type: ignore[type-arg]
+class Config(dict[str, ParamValue]):
     """A configuration: a dict whose items are also attributes (``config.speed``)."""
 
-    def __getattr__(self, name: str) -> Any:
+    def __getattr__(self, name: str) -> ParamValue:
         try:
             return self[name]
         except KeyError:
             raise AttributeError(f"config has no parameter {name!r}") from None
 
-    def __setattr__(self, name: str, value: Any) -> None:
+    def __setattr__(self, name: str, value: ParamValue) -> None:
         self[name] = value
 
     def copy(self) -> Config:
@@ -106,9 +114,9 @@ class ParamDescription:
     type: str
     level: int
     description: str
-    default: Any
-    min: Any
-    max: Any
+    default: ParamValue
+    min: ParamValue
+    max: ParamValue
     edit_method: str = ""
 
 
@@ -118,7 +126,7 @@ class ConfigType:
 
     name: str
     parameters: tuple[ParamDescription, ...]
-    constants: dict[str, Any] = field(default_factory=dict)
+    constants: dict[str, ParamValue] = field(default_factory=dict)
 
     def param(self, name: str) -> ParamDescription:
         """The description of ``name``; DdesKeyError naming the known parameters if absent."""
@@ -136,17 +144,17 @@ class ConfigType:
         return [p.name for p in self.parameters]
 
     @property
-    def defaults(self) -> dict[str, Any]:
+    def defaults(self) -> dict[str, ParamValue]:
         """name -> default (the generated ``defaults`` dict)."""
         return {p.name: p.default for p in self.parameters}
 
     @property
-    def min(self) -> dict[str, Any]:
+    def min(self) -> dict[str, ParamValue]:
         """name -> min (``""`` for str, False for bool)."""
         return {p.name: p.min for p in self.parameters}
 
     @property
-    def max(self) -> dict[str, Any]:
+    def max(self) -> dict[str, ParamValue]:
         """name -> max (``""`` for str, True for bool)."""
         return {p.name: p.max for p in self.parameters}
 
@@ -169,7 +177,7 @@ class ConfigType:
         return out
 
 
-def _typed(name: str, drtype: str, field_: str, value: Any) -> Any:
+def _typed(name: str, drtype: str, field_: str, value: object) -> ParamValue:
     """``value`` as the Python type of ``drtype`` (an int is fine for double), else DdesTypeError."""
     pytype = _PYTYPE[drtype]
     if type(value) is not pytype and not (pytype is float and type(value) is int):
@@ -177,13 +185,23 @@ def _typed(name: str, drtype: str, field_: str, value: Any) -> Any:
             f"'{name}' has type {drtype}, but {field_} is {value!r} "
             f"({type(value).__name__}); give a {pytype.__name__}"
         )
-    converted: Any = pytype(cast(Any, value))
-    if drtype == int_t and not _INT_MIN <= converted <= _INT_MAX:
+    assert isinstance(value, (bool, int, float, str))  # checked just above
+    converted = pytype(value)
+    if isinstance(converted, int) and drtype == int_t and not _INT_MIN <= converted <= _INT_MAX:
         raise DdesValueError(
             f"'{name}' is a 32-bit int, but {field_} is {value}; "
             f"keep it within {_INT_MIN}..{_INT_MAX}"
         )
     return converted
+
+
+class EnumConstant(TypedDict):
+    """A named constant of an enum (``gen.const(name, type, value, descr)``)."""
+
+    name: str
+    type: str
+    value: ParamValue
+    description: str
 
 
 def _check_description(description: str) -> None:
@@ -209,7 +227,7 @@ class ParameterGenerator:
 
     def __init__(self) -> None:
         self._params: list[ParamDescription] = []
-        self._constants: list[dict[str, Any]] = []
+        self._constants: list[EnumConstant] = []
 
     def add(
         self,
@@ -217,9 +235,9 @@ class ParameterGenerator:
         paramtype: str,
         level: int,
         description: str,
-        default: Any = None,
-        min: Any = None,  # noqa: A002 - the .cfg API's own argument names
-        max: Any = None,  # noqa: A002
+        default: ParamValue | None = None,
+        min: ParamValue | None = None,  # noqa: A002 - the .cfg API's own argument names
+        max: ParamValue | None = None,  # noqa: A002
         edit_method: str = "",
     ) -> None:
         """Declare a parameter; missing default/min/max take the type's defaults."""
@@ -243,7 +261,7 @@ class ParameterGenerator:
         if not isinstance(edit_method, str):
             raise DdesTypeError(f"'{name}' edit_method must be a str (gen.enum(...)), got {edit_method!r}")
 
-        def fill(value: Any, field_: str, default_: Any) -> Any:
+        def fill(value: ParamValue | None, field_: str, default_: ParamValue) -> ParamValue:
             return default_ if value is None else _typed(name, paramtype, field_, value)
 
         self._params.append(
@@ -259,17 +277,19 @@ class ParameterGenerator:
             )
         )
 
-    def const(self, name: str, type: str, value: Any, descr: str) -> dict[str, Any]:  # noqa: A002
+    def const(self, name: str, type: str, value: ParamValue,  # noqa: A002
+              descr: str) -> EnumConstant:
         """A named constant for an enum; also exported as ``ConfigType.constants[name]``."""
         _check_description(descr)
         if type not in _PYTYPE:
             raise DdesValueError(f"constant '{name}' has unknown type {type!r}")
-        newconst = {"name": name, "type": type, "value": _typed(name, type, "value", value),
-                    "description": descr}
+        newconst: EnumConstant = {"name": name, "type": type,
+                                  "value": _typed(name, type, "value", value),
+                                  "description": descr}
         self._constants.append(newconst)
         return newconst
 
-    def enum(self, constants: Iterable[Mapping[str, Any]], description: str) -> str:
+    def enum(self, constants: Iterable[Mapping[str, object]], description: str) -> str:
         """An ``edit_method`` string listing ``constants`` (all of one type)."""
         consts = [dict(c) for c in constants]
         if len({c["type"] for c in consts}) != 1:
@@ -297,12 +317,55 @@ def reconfigure_namespace(namespace: str = "") -> str:
 
 # -- message shapes -----------------------------------------------------------------------------
 
-_SECTIONS = {bool_t: "bools", int_t: "ints", str_t: "strs", double_t: "doubles"}
-_DEFAULT_GROUP = ("Default", True, 0, 0)  # GroupState(name, state, id, parent)
+_Section = Literal["bools", "ints", "strs", "doubles"]
+_SECTIONS: dict[str, _Section] = {bool_t: "bools", int_t: "ints", str_t: "strs",
+                                  double_t: "doubles"}
+#: A ``dynamic_reconfigure/GroupState``: (name, state, id, parent).
+GroupState = tuple[str, bool, int, int]
+_DEFAULT_GROUP: GroupState = ("Default", True, 0, 0)
 
 
-def _encode(values: Mapping[str, Any], ct: ConfigType, groups: bool) -> dict[str, list[Any]]:
-    msg: dict[str, list[Any]] = {"bools": [], "ints": [], "strs": [], "doubles": [], "groups": []}
+class ConfigMsgDict(TypedDict):
+    """A ``dynamic_reconfigure/Config`` message as a dict: (name, value) pairs per type."""
+
+    bools: list[tuple[str, ParamValue]]
+    ints: list[tuple[str, ParamValue]]
+    strs: list[tuple[str, ParamValue]]
+    doubles: list[tuple[str, ParamValue]]
+    groups: list[GroupState]
+
+
+class ParamDescriptionDict(TypedDict):
+    """A ``dynamic_reconfigure/ParamDescription`` as a dict."""
+
+    name: str
+    type: str
+    level: int
+    description: str
+    edit_method: str
+
+
+class GroupDict(TypedDict):
+    """A ``dynamic_reconfigure/Group`` as a dict."""
+
+    name: str
+    type: str
+    parameters: list[ParamDescriptionDict]
+    parent: int
+    id: int
+
+
+class ConfigDescriptionDict(TypedDict):
+    """A ``dynamic_reconfigure/ConfigDescription`` as a dict."""
+
+    groups: list[GroupDict]
+    max: ConfigMsgDict
+    min: ConfigMsgDict
+    dflt: ConfigMsgDict
+
+
+def _encode(values: Mapping[str, ParamValue], ct: ConfigType, groups: bool) -> ConfigMsgDict:
+    msg: ConfigMsgDict = {"bools": [], "ints": [], "strs": [], "doubles": [], "groups": []}
     for p in ct.parameters:
         if p.name in values:
             msg[_SECTIONS[p.type]].append((p.name, values[p.name]))
@@ -311,14 +374,16 @@ def _encode(values: Mapping[str, Any], ct: ConfigType, groups: bool) -> dict[str
     return msg
 
 
-def encode_config(config: Mapping[str, Any], config_type: ConfigType) -> dict[str, list[Any]]:
+def encode_config(config: Mapping[str, ParamValue], config_type: ConfigType) -> ConfigMsgDict:
     """``dynamic_reconfigure/Config`` as a dict: ``{"bools": [(name, value)], "ints": ...,
     "strs": ..., "doubles": ..., "groups": [(name, state, id, parent)]}``, parameters in
     declaration order."""
     return _encode(config, config_type, groups=True)
 
 
-def _pairs(section: Any) -> list[tuple[str, Any]]:
+def _pairs(section: Iterable[object] | None) -> list[tuple[str, ParamValue]]:
+    """The (name, value) entries of one section, whatever their shape (values unchecked:
+    :meth:`ReconfigureCore.update_configuration` checks them)."""
     out = []
     for item in section or ():
         if isinstance(item, Mapping):
@@ -335,7 +400,7 @@ def _pairs(section: Any) -> list[tuple[str, Any]]:
     return out
 
 
-def decode_config(msg: Any) -> Config:
+def decode_config(msg: object) -> Config:
     """A :class:`Config` from a ``Config`` message, dict-shaped or a message object.
 
     Entries are read from bools, ints, strs, doubles in that order (as
@@ -349,9 +414,9 @@ def decode_config(msg: Any) -> Config:
     return config
 
 
-def encode_description(config_type: ConfigType) -> dict[str, Any]:
+def encode_description(config_type: ConfigType) -> ConfigDescriptionDict:
     """``dynamic_reconfigure/ConfigDescription`` as a dict (one ``Default`` group)."""
-    group = {
+    group: GroupDict = {
         "name": "Default",
         "type": "",
         "parameters": [
@@ -372,7 +437,8 @@ def encode_description(config_type: ConfigType) -> dict[str, Any]:
 
 # -- the server core ------------------------------------------------------------------------------
 
-ReconfigureCallback = Callable[[Config, int], Any]
+#: ``callback(config, level) -> config`` (a mapping with every parameter; None raises).
+ReconfigureCallback = Callable[[Config, int], object]
 
 
 class ReconfigureCore:
@@ -399,9 +465,9 @@ class ReconfigureCore:
         self,
         config_type: ConfigType,
         callback: ReconfigureCallback,
-        param_get: Callable[[str], Any] | None = None,
-        param_set: Callable[[str, Any], Any] | None = None,
-        on_update: Callable[[Config], Any] | None = None,
+        param_get: Callable[[str], object] | None = None,
+        param_set: Callable[[str, ParamValue], object] | None = None,
+        on_update: Callable[[Config], object] | None = None,
     ) -> None:
         if not isinstance(config_type, ConfigType):
             raise DdesTypeError(f"config_type must be a ConfigType (gen.generate(...)), got {config_type!r}")
@@ -428,7 +494,7 @@ class ReconfigureCore:
         """The current configuration (a copy)."""
         return Config(self._config)
 
-    def update_configuration(self, changes: Mapping[str, Any]) -> Config:
+    def update_configuration(self, changes: Mapping[str, object]) -> Config:
         """Merge ``changes``, clamp, call the callback with the changed levels; the new config."""
         if not isinstance(changes, Mapping):
             raise DdesTypeError(f"changes must be a mapping name -> value, got {changes!r}")
@@ -438,41 +504,45 @@ class ReconfigureCore:
         self._clamp(new)
         return self._change_config(new, self._calc_level(new, self._config))
 
-    def set_parameters(self, config_msg: Any) -> dict[str, list[Any]]:
+    def set_parameters(self, config_msg: object) -> ConfigMsgDict:
         """The ``set_parameters`` service: a Config message in, the resulting one out."""
         return encode_config(self.update_configuration(decode_config(config_msg)), self.type)
 
-    def description(self) -> dict[str, Any]:
+    def description(self) -> ConfigDescriptionDict:
         """What ``parameter_descriptions`` carries (see :func:`encode_description`)."""
         return encode_description(self.type)
 
     # -- internals ---------------------------------------------------------------------------
     @staticmethod
-    def _coerce(p: ParamDescription, value: Any, what: str) -> Any:
+    def _coerce(p: ParamDescription, value: object, what: str) -> ParamValue:
+        """``value`` as the type of ``p`` (an int for a double becomes a float), else an error."""
         if p.type == bool_t:
-            ok = isinstance(value, bool)
+            if isinstance(value, bool):
+                return value
         elif p.type == str_t:
-            ok = isinstance(value, str)
-        else:
-            numeric = (int,) if p.type == int_t else (int, float)
-            ok = isinstance(value, numeric) and not isinstance(value, bool)
-        if not ok:
-            raise DdesTypeError(
-                f"{what} of parameter '{p.name}' is {value!r} ({type(value).__name__}), "
-                f"but '{p.name}' has type {p.type}; give a {_PYTYPE[p.type].__name__}"
-            )
-        return _PYTYPE[p.type](value)
+            if isinstance(value, str):
+                return str(value)
+        elif isinstance(value, int) and not isinstance(value, bool):
+            return int(value) if p.type == int_t else float(value)
+        elif p.type == double_t and isinstance(value, float):
+            return float(value)
+        raise DdesTypeError(
+            f"{what} of parameter '{p.name}' is {value!r} ({type(value).__name__}), "
+            f"but '{p.name}' has type {p.type}; give a {_PYTYPE[p.type].__name__}"
+        )
 
     def _clamp(self, config: Config) -> None:
         for p in self.type.parameters:
             if p.type in (int_t, double_t):
                 val = config[p.name]
+                if isinstance(val, str) or isinstance(p.min, str) or isinstance(p.max, str):
+                    continue  # never: a numeric parameter holds numbers
                 if val > p.max:
                     config[p.name] = p.max
                 elif val < p.min:
                     config[p.name] = p.min
 
-    def _calc_level(self, new: Mapping[str, Any], old: Mapping[str, Any]) -> int:
+    def _calc_level(self, new: Mapping[str, ParamValue], old: Mapping[str, ParamValue]) -> int:
         level = 0
         for p in self.type.parameters:
             if new[p.name] != old[p.name]:

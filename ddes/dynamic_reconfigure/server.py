@@ -18,11 +18,14 @@ This is the lecture's "dynamic reconfigure: local, changeable parameters".
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.dynamic_reconfigure.core import (
     Config,
+    ConfigDescriptionDict,
+    ConfigMsgDict,
     ConfigType,
+    ParamValue,
     ReconfigureCallback,
     ReconfigureCore,
     encode_config,
@@ -33,11 +36,12 @@ from ddes.services.server import Service
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
+    from ddes.msg.message import Message
 
 __all__ = ["DynamicReconfigureServer", "config_to_message"]
 
 
-def _config_msg(shape: Mapping[str, list[Any]]) -> Any:
+def _config_msg(shape: ConfigMsgDict) -> Message:
     from ddes.msg import get_message_class
 
     cfg = get_message_class("dynamic_reconfigure/Config")
@@ -47,20 +51,20 @@ def _config_msg(shape: Mapping[str, list[Any]]) -> Any:
     dp = get_message_class("dynamic_reconfigure/DoubleParameter")
     gs = get_message_class("dynamic_reconfigure/GroupState")
     return cfg(
-        bools=[bp(name=n, value=bool(v)) for n, v in shape.get("bools", [])],
-        ints=[ip(name=n, value=int(v)) for n, v in shape.get("ints", [])],
-        strs=[sp(name=n, value=str(v)) for n, v in shape.get("strs", [])],
-        doubles=[dp(name=n, value=float(v)) for n, v in shape.get("doubles", [])],
-        groups=[gs(name=g[0], state=g[1], id=g[2], parent=g[3]) for g in shape.get("groups", [])],
+        bools=[bp(name=n, value=bool(v)) for n, v in shape["bools"]],
+        ints=[ip(name=n, value=int(v)) for n, v in shape["ints"]],
+        strs=[sp(name=n, value=str(v)) for n, v in shape["strs"]],
+        doubles=[dp(name=n, value=float(v)) for n, v in shape["doubles"]],
+        groups=[gs(name=g[0], state=g[1], id=g[2], parent=g[3]) for g in shape["groups"]],
     )
 
 
-def config_to_message(config: Mapping[str, Any], config_type: ConfigType) -> Any:
+def config_to_message(config: Mapping[str, ParamValue], config_type: ConfigType) -> Message:
     """A ``dynamic_reconfigure/Config`` message of ``config``."""
     return _config_msg(encode_config(config, config_type))
 
 
-def _description_msg(descr: Mapping[str, Any]) -> Any:
+def _description_msg(descr: ConfigDescriptionDict) -> Message:
     from ddes.msg import get_message_class
 
     cd = get_message_class("dynamic_reconfigure/ConfigDescription")
@@ -112,7 +116,7 @@ class DynamicReconfigureServer:
         """The current configuration."""
         return self.core.config
 
-    def update_configuration(self, changes: Mapping[str, Any]) -> Config:
+    def update_configuration(self, changes: Mapping[str, object]) -> Config:
         """Change parameters from code (rospy Server.update_configuration)."""
         return self.core.update_configuration(changes)
 
@@ -121,7 +125,7 @@ class DynamicReconfigureServer:
                                config=dict(config))
         self._update_pub.publish(config_to_message(config, self.type))
 
-    def _handle(self, req: Any) -> Any:
+    def _handle(self, req: Message) -> dict[str, Message]:
         shape = self.core.set_parameters(req.config)
         return {"config": _config_msg(shape)}
 

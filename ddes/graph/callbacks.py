@@ -36,13 +36,15 @@ import traceback
 from collections import deque
 from collections.abc import Callable, Generator
 from types import GeneratorType
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import simpy
 
 from ddes.errors import DdesValueError
 
 if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
+
     from ddes.graph.node import Node
 
 __all__ = ["POLICIES", "CallbackOwner", "CallbackQueue", "SpinnerPolicy"]
@@ -51,8 +53,10 @@ __all__ = ["POLICIES", "CallbackOwner", "CallbackQueue", "SpinnerPolicy"]
 POLICIES = ("single", "manual", "rospy")
 
 SpinnerPolicy = str | int
-Callback = Callable[..., Any]
-_Entry = tuple[Callback, tuple[Any, ...], "CallbackOwner | None", "Callable[[], Any] | None"]
+#: A callback: a plain function, or a generator function whose generator yields kernel
+#: events (it takes simulated time); the runner only tells the two apart by the result.
+Callback = Callable[..., object]
+_Entry = tuple[Callback, tuple[object, ...], "CallbackOwner | None", "Callable[[], object] | None"]
 
 
 class CallbackOwner(Protocol):
@@ -102,8 +106,8 @@ class CallbackQueue:
         self.free = not (self.manual or self.closed or self.running >= self.threads or self._q)
 
     # -- entry points ---------------------------------------------------------------------
-    def invoke(self, fn: Callback, args: tuple[Any, ...] = (), owner: CallbackOwner | None = None,
-               on_done: Callable[[], Any] | None = None) -> None:
+    def invoke(self, fn: Callback, args: tuple[object, ...] = (), owner: CallbackOwner | None = None,
+               on_done: Callable[[], object] | None = None) -> None:
         """Run ``fn(*args)`` now if the spinner is free for ``owner``, else queue it.
 
         ``on_done()`` is called when the callback finished (at once for a
@@ -118,8 +122,8 @@ class CallbackQueue:
         """True if a callback of ``owner`` would run at once."""
         return self.free and (owner is None or not owner.cb_active)
 
-    def enqueue(self, fn: Callback, args: tuple[Any, ...] = (), owner: CallbackOwner | None = None,
-                on_done: Callable[[], Any] | None = None) -> None:
+    def enqueue(self, fn: Callback, args: tuple[object, ...] = (), owner: CallbackOwner | None = None,
+                on_done: Callable[[], object] | None = None) -> None:
         """Queue ``fn(*args)``; it runs when the policy allows (FIFO per owner)."""
         if self.closed:
             return
@@ -128,8 +132,8 @@ class CallbackQueue:
         if not self.manual:
             self._drain()
 
-    def run(self, fn: Callback, args: tuple[Any, ...] = (), owner: CallbackOwner | None = None,
-            on_done: Callable[[], Any] | None = None) -> None:
+    def run(self, fn: Callback, args: tuple[object, ...] = (), owner: CallbackOwner | None = None,
+            on_done: Callable[[], object] | None = None) -> None:
         """Run one callback now: the one place user callbacks are called."""
         try:
             result = fn(*args)
@@ -144,8 +148,8 @@ class CallbackQueue:
             on_done()
 
     # -- generators ---------------------------------------------------------------------------
-    def _adopt(self, fn: Callback, gen: Generator[Any, Any, Any], owner: CallbackOwner | None,
-               on_done: Callable[[], Any] | None) -> None:
+    def _adopt(self, fn: Callback, gen: ProcessGenerator, owner: CallbackOwner | None,
+               on_done: Callable[[], object] | None) -> None:
         """A generator callback: it holds a thread of the spinner until it ends."""
         self.running += 1
         if self.running >= self.threads:
@@ -153,17 +157,16 @@ class CallbackQueue:
         if owner is not None:
             owner.cb_active = True
         proc = self._env.process(self._run_generator(fn, gen))
-        proc.callbacks.append(lambda _p: self._finished(owner, on_done))  # type: ignore[union-attr]
+        proc.callbacks.append(lambda _p: self._finished(owner, on_done))
 
-    def _run_generator(self, fn: Callback, gen: Generator[Any, Any, Any]
-                       ) -> Generator[Any, Any, Any]:
+    def _run_generator(self, fn: Callback, gen: ProcessGenerator) -> ProcessGenerator:
         try:
             return (yield from gen)
         except Exception as exc:  # noqa: BLE001
             self.report_error(fn, exc)
             return None
 
-    def _finished(self, owner: CallbackOwner | None, on_done: Callable[[], Any] | None) -> None:
+    def _finished(self, owner: CallbackOwner | None, on_done: Callable[[], object] | None) -> None:
         self.running -= 1
         if owner is not None:
             owner.cb_active = False
@@ -191,7 +194,7 @@ class CallbackQueue:
         """Run the callbacks queued now, one at a time (roscpp ``spinOnce``)."""
         return self._env.process(self._spin_once())
 
-    def _spin_once(self) -> Generator[Any, Any, int]:
+    def _spin_once(self) -> Generator[simpy.Event, object, int]:
         n = len(self._q)
         done = 0
         for _ in range(n):

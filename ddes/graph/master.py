@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from ddes.graph.node import Node
     from ddes.graph.topics import Publisher, Subscriber
     from ddes.graph.world import World
+    from ddes.msg.message import MessageClass
 
 __all__ = ["Master", "ServiceEntry", "TopicEntry"]
 
@@ -30,8 +31,8 @@ class TopicEntry:
     name: str
     type: str
     md5sum: str
-    publishers: list[Publisher] = field(default_factory=list)
-    subscribers: list[Subscriber] = field(default_factory=list)
+    publishers: list[Publisher[MessageClass]] = field(default_factory=list)
+    subscribers: list[Subscriber[MessageClass]] = field(default_factory=list)
 
     def publisher_nodes(self) -> list[str]:
         """Names of the publishing nodes (each once, in registration order)."""
@@ -82,7 +83,7 @@ class Master:
             entry.type, entry.md5sum = type_, md5
         return entry
 
-    def register_publisher(self, pub: Publisher) -> TopicEntry:
+    def register_publisher(self, pub: Publisher[MessageClass]) -> TopicEntry:
         """Add a publisher; raises ROSTopicException on a type conflict."""
         entry = self._entry(pub.resolved_name, pub.type, pub.md5sum, f"Publisher of [{pub.node.name}]")
         entry.publishers.append(pub)
@@ -90,7 +91,7 @@ class Master:
             self.world.graph_connect(pub, sub)
         return entry
 
-    def register_subscriber(self, sub: Subscriber) -> TopicEntry:
+    def register_subscriber(self, sub: Subscriber[MessageClass]) -> TopicEntry:
         """Add a subscriber; raises ROSTopicException on a type conflict."""
         entry = self._entry(sub.resolved_name, sub.type, sub.md5sum, f"Client [{sub.node.name}]")
         entry.subscribers.append(sub)
@@ -98,12 +99,12 @@ class Master:
             self.world.graph_connect(pub, sub)
         return entry
 
-    def unregister_publisher(self, pub: Publisher) -> None:
+    def unregister_publisher(self, pub: Publisher[MessageClass]) -> None:
         entry = self.topics.get(pub.resolved_name)
         if entry is not None and pub in entry.publishers:
             entry.publishers.remove(pub)
 
-    def unregister_subscriber(self, sub: Subscriber) -> None:
+    def unregister_subscriber(self, sub: Subscriber[MessageClass]) -> None:
         entry = self.topics.get(sub.resolved_name)
         if entry is not None and sub in entry.subscribers:
             entry.subscribers.remove(sub)

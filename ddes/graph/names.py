@@ -85,7 +85,7 @@ SPECIAL_ARGS = ("__name", "__ns", "__master", "__ip", "__hostname", "__log")
 _ANON_MAX = 2**63 - 1  # rosgraph draws randint(0, sys.maxsize) on 64-bit hosts
 
 
-def _check_str(value: Any, what: str) -> str:
+def _check_str(value: object, what: str) -> str:
     if not isinstance(value, str):
         raise DdesTypeError(f"{what} must be a str, got {type(value).__name__} {value!r}")
     return value

@@ -29,8 +29,8 @@ entity's ``shutdown()`` when it shuts down.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Generator, Sequence
-from typing import TYPE_CHECKING, Any, Protocol
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any, Protocol, TypedDict, TypeVar
 
 import simpy
 
@@ -43,21 +43,41 @@ from ddes.time.clock import Clock, SimClock
 from ddes.time.rate import Rate, RoscppRate, WallRate
 from ddes.time.rostime import Time, WallTime
 from ddes.time.sleep import duration_sleep, sleep
+from ddes.time.units import DurationLike
 
 if TYPE_CHECKING:
-    from ddes.graph.topics import Publisher, Subscriber
+    from simpy.events import ProcessGenerator
+    from typing_extensions import Unpack
+
+    from ddes.graph.topics import Publisher, PublisherOptions, Subscriber, SubscriberOptions
     from ddes.graph.world import World
+    from ddes.msg.message import MessageClass, MessageLike
 
-__all__ = ["Entity", "Node"]
+__all__ = ["Entity", "Node", "NodeOptions"]
 
+_C = TypeVar("_C", bound="MessageClass")
 
 class Entity(Protocol):
     """What a node owns: anything with ``shutdown()`` (publishers, timers, services...)."""
 
-    def shutdown(self) -> Any: ...
+    def shutdown(self) -> object: ...
 
 
-_UNSET: Any = object()
+class NodeOptions(TypedDict, total=False):
+    """The keyword arguments of :class:`Node` (``world.create_node(name, **options)``)."""
+
+    namespace: str
+    argv: Sequence[str]
+    remappings: dict[str, str] | None
+    anonymous: bool
+    use_sim_time: bool | None
+    spinner: SpinnerPolicy
+    log_level: str | int
+    log_style: str
+    disable_rosout: bool
+
+
+_UNSET = object()
 
 
 class Node:
@@ -130,11 +150,11 @@ class Node:
             use_sim_time = bool(master.params.get_param("/use_sim_time", False))
         self.use_sim_time = bool(use_sim_time)
         self.clock: Clock = SimClock(world.env) if self.use_sim_time else world.kernel_clock
-        self._entities: list[Any] = []
-        self._published: list[Publisher] = []
-        self._subscribed: list[Subscriber] = []
+        self._entities: list[Entity] = []
+        self._published: list[Publisher[MessageClass]] = []
+        self._subscribed: list[Subscriber[MessageClass]] = []
         self._shutdown = False
-        self._shutdown_hooks: list[Callable[[str], Any]] = []
+        self._shutdown_hooks: list[Callable[[str], object]] = []
         self._shutdown_event: simpy.Event | None = None
         #: The node's callback queue and spinner (:mod:`ddes.graph.callbacks`).
         self.callbacks = CallbackQueue(self, spinner)
@@ -181,7 +201,7 @@ class Node:
         """True once :meth:`shutdown` ran."""
         return self._shutdown
 
-    def on_shutdown(self, hook: Callable[[str], Any]) -> None:
+    def on_shutdown(self, hook: Callable[[str], object]) -> None:
         """Call ``hook(reason)`` when the node shuts down (rospy.on_shutdown)."""
         self._shutdown_hooks.append(hook)
 
@@ -244,14 +264,14 @@ class Node:
         """
         return self.callbacks.spin_once()
 
-    def process(self, generator: Generator[Any, Any, Any]) -> simpy.Process:
+    def process(self, generator: ProcessGenerator) -> simpy.Process:
         """Start a process belonging to this node (e.g. its main loop)."""
         self.check_alive("start a process")
         return self.world.env.process(generator)
 
     # -- topics ----------------------------------------------------------------------------------
-    def advertise(self, name: str, data_class: Any, queue_size: int | None = None,
-                  latch: bool = False, **kwargs: Any) -> Publisher:
+    def advertise(self, name: str, data_class: _C, queue_size: int | None = None,
+                  latch: bool = False, **kwargs: Unpack[PublisherOptions]) -> Publisher[_C]:
         """A :class:`~ddes.graph.topics.Publisher` (rospy.Publisher; roscpp advertise)."""
         from ddes.graph.topics import Publisher
 
@@ -259,8 +279,10 @@ class Node:
 
     create_publisher = advertise
 
-    def subscribe(self, name: str, data_class: Any, callback: Callable[..., Any] | None = None,
-                  callback_args: Any = None, queue_size: int | None = None, **kwargs: Any) -> Subscriber:
+    def subscribe(self, name: str, data_class: _C,
+                  callback: Callable[..., object] | None = None, callback_args: object = None,
+                  queue_size: int | None = None,
+                  **kwargs: Unpack[SubscriberOptions]) -> Subscriber[_C]:
         """A :class:`~ddes.graph.topics.Subscriber` (rospy.Subscriber; roscpp subscribe)."""
         from ddes.graph.topics import Subscriber
 
@@ -268,7 +290,8 @@ class Node:
 
     create_subscriber = subscribe
 
-    def wait_for_message(self, topic: str, data_class: Any, timeout: Any = None) -> simpy.Event:
+    def wait_for_message(self, topic: str, data_class: type[MessageLike],
+                         timeout: DurationLike | None = None) -> simpy.Event:
         """Event whose value is the next message on ``topic`` (rospy.wait_for_message).
 
         With ``timeout`` (ROS time), the event fails with ROSException when it expires.
@@ -305,49 +328,49 @@ class Node:
         return self.world.master.params.get_param_names()
 
     # -- logging -----------------------------------------------------------------------------------
-    def logdebug(self, msg: Any, *args: Any) -> None:
+    def logdebug(self, msg: object, *args: object) -> None:
         self.log.log(DEBUG, msg, args)
 
-    def loginfo(self, msg: Any, *args: Any) -> None:
+    def loginfo(self, msg: object, *args: object) -> None:
         self.log.log(INFO, msg, args)
 
-    def logwarn(self, msg: Any, *args: Any) -> None:
+    def logwarn(self, msg: object, *args: object) -> None:
         self.log.log(WARN, msg, args)
 
-    def logerr(self, msg: Any, *args: Any) -> None:
+    def logerr(self, msg: object, *args: object) -> None:
         self.log.log(ERROR, msg, args)
 
-    def logfatal(self, msg: Any, *args: Any) -> None:
+    def logfatal(self, msg: object, *args: object) -> None:
         self.log.log(FATAL, msg, args)
 
-    def logdebug_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+    def logdebug_throttle(self, period: DurationLike, msg: object, *args: object) -> None:
         self.log.log(DEBUG, msg, args, throttle=period)
 
-    def loginfo_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+    def loginfo_throttle(self, period: DurationLike, msg: object, *args: object) -> None:
         self.log.log(INFO, msg, args, throttle=period)
 
-    def logwarn_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+    def logwarn_throttle(self, period: DurationLike, msg: object, *args: object) -> None:
         self.log.log(WARN, msg, args, throttle=period)
 
-    def logerr_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+    def logerr_throttle(self, period: DurationLike, msg: object, *args: object) -> None:
         self.log.log(ERROR, msg, args, throttle=period)
 
-    def logfatal_throttle(self, period: Any, msg: Any, *args: Any) -> None:
+    def logfatal_throttle(self, period: DurationLike, msg: object, *args: object) -> None:
         self.log.log(FATAL, msg, args, throttle=period)
 
-    def logdebug_once(self, msg: Any, *args: Any) -> None:
+    def logdebug_once(self, msg: object, *args: object) -> None:
         self.log.log(DEBUG, msg, args, once=True)
 
-    def loginfo_once(self, msg: Any, *args: Any) -> None:
+    def loginfo_once(self, msg: object, *args: object) -> None:
         self.log.log(INFO, msg, args, once=True)
 
-    def logwarn_once(self, msg: Any, *args: Any) -> None:
+    def logwarn_once(self, msg: object, *args: object) -> None:
         self.log.log(WARN, msg, args, once=True)
 
-    def logerr_once(self, msg: Any, *args: Any) -> None:
+    def logerr_once(self, msg: object, *args: object) -> None:
         self.log.log(ERROR, msg, args, once=True)
 
-    def logfatal_once(self, msg: Any, *args: Any) -> None:
+    def logfatal_once(self, msg: object, *args: object) -> None:
         self.log.log(FATAL, msg, args, once=True)
 
     # -- time ---------------------------------------------------------------------------------
@@ -365,16 +388,16 @@ class Node:
         """Kernel ("wall") time, whatever the node's clock (ros::WallTime::now)."""
         return WallTime._from_ns(self.world.env.now)
 
-    def sleep(self, duration: Any) -> simpy.Event:
+    def sleep(self, duration: DurationLike) -> simpy.Event:
         """rospy.sleep on this node's clock: ``yield node.sleep(0.5)``."""
         self.check_alive("sleep")
         return sleep(self.clock, duration)
 
-    def duration_sleep(self, duration: Any) -> simpy.Event:
+    def duration_sleep(self, duration: DurationLike) -> simpy.Event:
         """roscpp Duration::sleep: the event's value says whether it slept."""
         return duration_sleep(self.clock, duration)
 
-    def wall_sleep(self, duration: Any) -> simpy.Event:
+    def wall_sleep(self, duration: DurationLike) -> simpy.Event:
         """Sleep on the kernel clock, whatever the node's clock (WallDuration::sleep)."""
         return sleep(self.world.kernel_clock, duration)
 
@@ -395,8 +418,8 @@ class Node:
 
     def create_timer(
         self,
-        period: Any,
-        callback: Callable[[TimerEvent], Any],
+        period: DurationLike,
+        callback: Callable[[TimerEvent], object],
         oneshot: bool = False,
         reset: bool = False,
     ) -> Timer:

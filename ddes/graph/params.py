@@ -49,7 +49,8 @@ __all__ = ["XMLRPC_INT_MAX", "XMLRPC_INT_MIN", "ParamServer", "ParamSubscription
 XMLRPC_INT_MAX = 2**31 - 1
 XMLRPC_INT_MIN = -(2**31)
 
-ParamCallback = Callable[[str, Any], Any]
+#: ``callback(updated_key, value)``; the value is a parameter value (XML-RPC types).
+ParamCallback = Callable[[str, Any], object]
 
 
 class _Unspecified:
@@ -57,13 +58,13 @@ class _Unspecified:
         return "<unspecified>"
 
 
-_UNSPECIFIED: Any = _Unspecified()
+_UNSPECIFIED = _Unspecified()
 
 
 # -- values ----------------------------------------------------------------------------------
 
 
-def to_xmlrpc(value: Any, where: str = "value") -> Any:
+def to_xmlrpc(value: object, where: str = "value") -> Any:
     """A deep copy of ``value`` made of plain XML-RPC types, or a typed error naming ``where``.
 
     bool, int, float, str and bytes subclasses become their base type,
@@ -218,7 +219,7 @@ class ParamServer:
 
     # -- keys ------------------------------------------------------------------------------
     @staticmethod
-    def _key(key: Any) -> str:
+    def _key(key: object) -> str:
         """Canonical global form of ``key`` (relative keys are relative to ``/``)."""
         if not isinstance(key, str):
             raise DdesTypeError(f"parameter key must be a str, got {type(key).__name__} {key!r}")

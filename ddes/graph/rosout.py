@@ -19,12 +19,15 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import DdesValueError
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
+    from ddes.graph.topics import Publisher
+    from ddes.msg.message import Message
+    from ddes.time.units import DurationLike
 
 __all__ = ["DEBUG", "ERROR", "FATAL", "INFO", "LEVEL_NAMES", "WARN", "NodeLogger", "format_line",
            "format_line_roscpp"]
@@ -35,7 +38,7 @@ _BY_NAME = {"debug": DEBUG, "info": INFO, "warn": WARN, "warning": WARN, "error"
             "fatal": FATAL}
 
 
-def level_from(value: Any) -> int:
+def level_from(value: str | int) -> int:
     """A level from its name (``"info"``) or number (2)."""
     if isinstance(value, str) and value.lower() in _BY_NAME:
         return _BY_NAME[value.lower()]
@@ -59,7 +62,7 @@ def format_line_roscpp(level: int, text: str, ros_ns: int) -> str:
 class NodeLogger:
     """The logging state of one node (level, throttle and once memories)."""
 
-    def __init__(self, node: Node, level: Any = "info", rosout: bool = True,
+    def __init__(self, node: Node, level: str | int = "info", rosout: bool = True,
                  style: str = "rospy") -> None:
         if style not in ("rospy", "roscpp"):
             raise DdesValueError(f"log style must be 'rospy' or 'roscpp', got {style!r}")
@@ -68,8 +71,8 @@ class NodeLogger:
         self.level = level_from(level)
         self._last: dict[tuple[str, int], int] = {}
         self._once: set[tuple[str, int]] = set()
-        self._pub: Any = None
-        self._log_cls: Any = None
+        self._pub: Publisher[type[Message]] | None = None
+        self._log_cls: type[Message] | None = None
         if rosout:
             from ddes.graph.topics import Publisher
             from ddes.msg import get_message_class
@@ -77,12 +80,12 @@ class NodeLogger:
             self._log_cls = get_message_class("rosgraph_msgs/Log")
             self._pub = Publisher(node, "/rosout", self._log_cls, latch=True, queue_size=100)
 
-    def set_level(self, level: Any) -> None:
+    def set_level(self, level: str | int) -> None:
         """Change the node's logger level (rosconsole set_logger_level)."""
         self.level = level_from(level)
 
-    def log(self, level: int, msg: Any, args: tuple[Any, ...], depth: int = 2,
-            throttle: Any = None, once: bool = False) -> None:
+    def log(self, level: int, msg: object, args: tuple[object, ...], depth: int = 2,
+            throttle: DurationLike | None = None, once: bool = False) -> None:
         """Log one line (see module docstring); ``depth`` finds the caller."""
         if level < self.level:
             return
@@ -106,7 +109,7 @@ class NodeLogger:
         world = node.world
         world.record("log", node.name, level=LEVEL_NAMES[level], msg=text,
                      file=frame.f_code.co_filename.rsplit("/", 1)[-1], line=frame.f_lineno)
-        if self._pub is not None and not node.is_shutdown():
+        if self._pub is not None and self._log_cls is not None and not node.is_shutdown():
             stamp = node.get_rostime()
             m = self._log_cls()
             m.header.stamp = stamp
@@ -118,7 +121,7 @@ class NodeLogger:
             m.line = frame.f_lineno
             m.topics = [p.resolved_name for p in node._published]
             self._pub.publish(m)
-        out: Callable[[str, int], None] | None = world.log_output
+        out: Callable[[str, int], object] | None = world.log_output
         if out is not None:
             if self.style == "roscpp":
                 out(format_line_roscpp(level, text, node.clock.now_ns()), level)

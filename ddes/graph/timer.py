@@ -19,17 +19,18 @@ single-threaded node a generator timer callback holds the spinner.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import DdesValueError
-from ddes.kernel.events import post
+from ddes.kernel.events import now_of, post
 from ddes.time.rostime import Duration, Time
-from ddes.time.units import duration_to_ns
+from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
     from simpy import Timeout
 
     from ddes.graph.node import Node
+    from ddes.kernel.events import Posted
 
 __all__ = ["Timer", "TimerEvent"]
 
@@ -111,8 +112,8 @@ class Timer:
     def __init__(
         self,
         node: Node,
-        period: Any,
-        callback: Callable[[TimerEvent], Any],
+        period: DurationLike,
+        callback: Callable[[TimerEvent], object],
         oneshot: bool = False,
         reset: bool = False,
     ) -> None:
@@ -141,6 +142,7 @@ class Timer:
         self._next = 0
         self._kernel = not self._clock.is_sim
         self._fire_cb = self._fire
+        self._armed: Timeout | None = None
         self._trace = node.world.trace
         self._source = node.name
         #: Number of times the callback was started.
@@ -168,19 +170,38 @@ class Timer:
         gen = self._gen
         if self._kernel:
             delay = self._next - self._env.now
-            post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
+            self._armed = post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
         else:
             ev = self._clock.wait_until(self._next)
-            ev.callbacks.append(lambda _e: self._fire_gen(gen))  # type: ignore[union-attr]
+            ev.callbacks.append(lambda _e: self._fire_gen(gen))
 
     def _on_jump(self, old_ns: int, new_ns: int) -> None:
         if self._alive and new_ns < old_ns:
             self._next = new_ns + self._period
             self._arm()
 
-    def _fire(self, ev: Timeout) -> None:
-        """Kernel-clock wake-up."""
-        self._fire_gen(ev.value)
+    def _fire(self, ev: Posted[int]) -> None:
+        """Kernel-clock wake-up (the common case: built inline, run by the node's runner)."""
+        if ev is not self._armed or not self._alive:
+            return
+        self._armed = None  # nothing else may fire until this callback finished
+        self._gen += 1
+        cbq = self._cbq
+        if not (cbq.free and not self.cb_active):
+            cbq.enqueue(self._run, (), self, self._done)
+            return
+        now: int = now_of(self._env)
+        nxt = self._next
+        self._started = now
+        event = TimerEvent.__new__(TimerEvent)
+        event._le = self._last_expected_ns
+        event._lr = self._last_real_ns
+        event._ce = nxt
+        event._cr = now
+        event.last_duration = self._last_duration
+        self.fires += 1
+        self._trace.append_row((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
+        cbq.run(self._callback, (event,), self, self._done)
 
     def _fire_gen(self, gen: int) -> None:
         if gen != self._gen or not self._alive:
@@ -188,7 +209,7 @@ class Timer:
         self._gen += 1  # nothing else may fire until this callback finished
         self._cbq.invoke(self._run, (), self, self._done)
 
-    def _run(self) -> Any:
+    def _run(self) -> object:
         """The callback's turn: build the TimerEvent, record, call (through the node's runner)."""
         now = self._clock.now_ns()
         nxt = self._next
@@ -204,9 +225,11 @@ class Timer:
         return self._callback(event)
 
     def _done(self) -> None:
-        now = self._clock.now_ns()
-        self._last_duration = (now - self._started) / 1e9
-        self._last_real_ns = self._started
+        env = self._env
+        now: int = now_of(env) if self._kernel else self._clock.now_ns()
+        started = self._started
+        self._last_duration = (now - started) / 1e9
+        self._last_real_ns = started
         if self._oneshot:
             self._last_expected_ns = self._next
             self.shutdown()
@@ -214,16 +237,17 @@ class Timer:
         if not self._alive:
             return
         nxt = self._next
+        period = self._period
         if nxt <= now:
             self._last_expected_ns = nxt
-            nxt += self._period
-        if nxt + self._period < now:
+            nxt += period
+        if nxt + period < now:
             nxt = now
         self._next = nxt
         if self._kernel:
             self._gen += 1
-            delay = nxt - self._env.now
-            post(self._env, delay if delay > 0 else 0, self._gen, self._fire_cb)
+            delay = nxt - now
+            self._armed = post(env, delay if delay > 0 else 0, self._gen, self._fire_cb)
         else:
             self._arm()
 

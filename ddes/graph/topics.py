@@ -27,7 +27,7 @@ from __future__ import annotations
 import random
 from collections import deque
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic, TypedDict, TypeVar
 
 from ddes.errors import (
     DdesTypeError,
@@ -35,22 +35,27 @@ from ddes.errors import (
     ROSException,
     ROSSerializationException,
 )
-from ddes.kernel.events import post
+from ddes.kernel.events import now_of, payload_of, post
 from ddes.msg.anymsg import AnyMsg
-from ddes.time.units import duration_to_ns
+from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
     from simpy import Timeout
 
     from ddes.graph.node import Node
     from ddes.graph.world import World
+    from ddes.kernel.events import Posted
+    from ddes.msg.message import Message, MessageClass, MessageLike
 
 __all__ = [
     "AnyMsg",
     "Connection",
+    "LinkLatency",
     "LinkModel",
     "Publisher",
+    "PublisherOptions",
     "Subscriber",
+    "SubscriberOptions",
     "args_kwds_to_message",
     "connect_later",
     "disconnect",
@@ -61,17 +66,43 @@ _PUB_KEYS = ("topic", "seq", "connections")
 _DELIVER_KEYS = ("topic", "publisher", "seq")
 _DROP_KEYS = ("topic", "publisher", "seq", "reason")
 
+_M = TypeVar("_M", bound="MessageLike")
+#: The data class of a publisher or subscriber: ``Publisher[type[String]]``,
+#: ``Subscriber[type[AnyMsg]]``; ``Publisher[MessageClass]`` is any publisher.
+_C_co = TypeVar("_C_co", bound="MessageClass", covariant=True)
 
-def args_kwds_to_message(data_class: Any, args: tuple[Any, ...], kwds: dict[str, Any]) -> Any:
+#: A link latency: seconds or a Duration, or ``f(rng)`` returning one, drawn per message
+#: from the connection's own seeded stream.
+LinkLatency = DurationLike | Callable[[random.Random], DurationLike]
+
+
+class PublisherOptions(TypedDict, total=False):
+    """The keyword arguments ``node.advertise(...)`` passes on to :class:`Publisher`."""
+
+    subscriber_listener: object
+    tcp_nodelay: bool
+    headers: dict[str, str] | None
+
+
+class SubscriberOptions(TypedDict, total=False):
+    """The keyword arguments ``node.subscribe(...)`` passes on to :class:`Subscriber`."""
+
+    buff_size: int
+    tcp_nodelay: bool
+    internal: bool
+
+
+def args_kwds_to_message(data_class: type[_M], args: tuple[Any, ...], kwds: dict[str, Any]) -> _M:
     """Build a message from publish/call arguments, with rospy's rules and texts."""
     if args and kwds:
         raise DdesTypeError("publish() can be called with arguments or keywords, but not both")
     if len(args) == 1 and hasattr(args[0], "_type") and hasattr(args[0], "_md5sum"):
-        msg = args[0]
+        msg: _M = args[0]  # a message; of data_class's type once checked
         if msg._type != data_class._type:
             raise DdesTypeError(f"expected [{data_class._type}] but got [{msg._type}]")
         return msg
-    if len(args) == 1 and isinstance(args[0], dict) and not kwds and len(data_class.__slots__) != 1:
+    if len(args) == 1 and isinstance(args[0], dict) and not kwds \
+            and len(data_class.__slots__) != 1:  # type: ignore[attr-defined]  # fields
         raise DdesTypeError(
             f"a dict is not a {data_class._type} message: pass {data_class.__name__}(**d) or keywords"
         )
@@ -90,7 +121,7 @@ class LinkModel:
 
     __slots__ = ("latency", "loss")
 
-    def __init__(self, latency: Any = 0, loss: float = 0.0) -> None:
+    def __init__(self, latency: LinkLatency = 0, loss: float = 0.0) -> None:
         if not callable(latency):
             link_latency_ns(latency)  # validate now
         if isinstance(loss, bool) or not isinstance(loss, (int, float)) or not 0.0 <= loss <= 1.0:
@@ -99,7 +130,7 @@ class LinkModel:
         self.loss = float(loss)
 
 
-def link_latency_ns(value: Any) -> int:
+def link_latency_ns(value: DurationLike) -> int:
     """A link latency (seconds or Duration, >= 0) as integer nanoseconds."""
     if getattr(value, "to_nsec", None) is None and (
             isinstance(value, bool) or not isinstance(value, (int, float))):
@@ -117,7 +148,11 @@ class Connection:
                  "_sent", "_seq0", "lost", "received", "dropped", "delivered", "closed", "header",
                  "batchable", "pub_name")
 
-    def __init__(self, world: World, pub: Publisher, sub: Subscriber, link: LinkModel) -> None:
+    _draw: Callable[[random.Random], DurationLike] | None
+    _loss: float
+
+    def __init__(self, world: World, pub: Publisher[MessageClass], sub: Subscriber[MessageClass],
+                 link: LinkModel) -> None:
         self.world = world
         self.pub = pub
         self.sub = sub
@@ -170,44 +205,46 @@ class Connection:
         self._sent += 1
         world = self.world
         env = world.env
-        now: int = env.now
+        now: int = now_of(env)
         if self._loss and self._rng is not None and self._rng.random() < self._loss:
             self.lost += 1
             world.trace.append_row((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
                                      self.pub.resolved_name, self.pub_name, seq, "loss"))
             return
-        delay = self._fixed if self._draw is None else link_latency_ns(self._draw(self._rng))
+        # _rng is set whenever _draw is (set_link)
+        delay = self._fixed if self._draw is None else link_latency_ns(
+            self._draw(self._rng))  # type: ignore[arg-type]
         at = now + delay
         if at < self._last:
             at = self._last  # FIFO per connection
         self._last = at
         post(env, at - now, (data, seq), self._arrive)
 
-    def _arrive(self, ev: Timeout) -> None:
+    def _arrive(self, ev: Posted[tuple[bytes, int]]) -> None:
         if self.closed:
             return
-        data, seq = ev.value
+        data, seq = payload_of(ev)
         self.received += 1
         self.sub._receive(self, data, seq)
 
 
-def _arrive_batch(ev: Timeout) -> None:
-    data, seq, conns = ev.value
+def _arrive_batch(ev: Posted[tuple[bytes, int, list[Connection]]]) -> None:
+    data, seq, conns = payload_of(ev)
     for conn in conns:
         if not conn.closed:
             conn.received += 1
             conn.sub._receive(conn, data, seq)
 
 
-class Publisher:
+class Publisher(Generic[_C_co]):
     """``Publisher(node, name, data_class, queue_size=None, latch=False)`` (rospy.Publisher)."""
 
     def __init__(
         self,
         node: Node,
         name: str,
-        data_class: Any,
-        subscriber_listener: Any = None,
+        data_class: _C_co,
+        subscriber_listener: object = None,
         tcp_nodelay: bool = False,
         latch: bool = False,
         headers: dict[str, str] | None = None,
@@ -254,7 +291,7 @@ class Publisher:
         if self._closed:
             raise ROSException("publish() to an unregistered() handle")
         if len(args) == 1 and not kwds and type(args[0]) is self.data_class:
-            msg = args[0]
+            msg: Any = args[0]  # a data_class instance: a Message, with a header if _has_header
         else:
             msg = args_kwds_to_message(self.data_class, args, kwds)
         self.seq += 1
@@ -268,7 +305,7 @@ class Publisher:
         if self.latch:
             self._latched = data
         env = self._env
-        self._trace.append_row((env.now, "topic.publish", self._node_name, _PUB_KEYS,
+        self._trace.append_row((now_of(env), "topic.publish", self._node_name, _PUB_KEYS,
                                 self.resolved_name, seq, self._nconn))
         for delay, conns in self._fanout:
             post(env, delay, (data, seq, conns), _arrive_batch)
@@ -308,16 +345,16 @@ class Publisher:
     shutdown = unregister
 
 
-class Subscriber:
+class Subscriber(Generic[_C_co]):
     """``Subscriber(node, name, data_class, callback, callback_args, queue_size)`` (rospy)."""
 
     def __init__(
         self,
         node: Node,
         name: str,
-        data_class: Any,
-        callback: Callable[..., Any] | None = None,
-        callback_args: Any = None,
+        data_class: _C_co,
+        callback: Callable[..., object] | None = None,
+        callback_args: object = None,
         queue_size: int | None = None,
         buff_size: int = 65536,
         tcp_nodelay: bool = False,
@@ -345,7 +382,7 @@ class Subscriber:
         self.callback_args = callback_args
         self.queue_size = queue_size
         self.connections: list[Connection] = []
-        self._queue: deque[tuple[Connection, Any, int]] = deque()
+        self._queue: deque[tuple[Connection, MessageLike, int]] = deque()
         self._closed = False
         self._internal = internal
         self._any = data_class is AnyMsg
@@ -364,7 +401,7 @@ class Subscriber:
         if self._closed:
             return
         if self._any:
-            msg: Any = AnyMsg(data, dict(conn.header))
+            msg: MessageLike = AnyMsg(data, dict(conn.header))
         else:
             cls = self.data_class
             msg = cls.__new__(cls)._deserialize_from(data)
@@ -372,7 +409,7 @@ class Subscriber:
         if self._internal or (cbq.free and not self._queue and not self.cb_active):
             # The spinner is free: deliver now, through the node's runner.
             conn.delivered += 1
-            self._trace.append_row((self._env.now, "topic.deliver", self._node_name,
+            self._trace.append_row((now_of(self._env), "topic.deliver", self._node_name,
                                     _DELIVER_KEYS, self.resolved_name, conn.pub_name, seq))
             cb = self.callback
             if cb is not None:
@@ -389,13 +426,13 @@ class Subscriber:
                                      self.resolved_name, old_conn.pub_name, old_seq, "queue_full"))
         cbq.enqueue(self._call_queued, (), self)
 
-    def _call_queued(self) -> Any:
+    def _call_queued(self) -> object:
         """The spinner's entry: deliver the oldest queued message (roscpp SubscriptionQueue::call)."""
         if not self._queue or self._closed:
             return None
         conn, msg, seq = self._queue.popleft()
         conn.delivered += 1
-        self._trace.append_row((self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
+        self._trace.append_row((now_of(self._env), "topic.deliver", self._node_name, _DELIVER_KEYS,
                                  self.resolved_name, conn.pub_name, seq))
         cb = self.callback
         if cb is None:
@@ -423,7 +460,7 @@ class Subscriber:
     shutdown = unregister
 
 
-def _check_data_class(data_class: Any, name: str) -> None:
+def _check_data_class(data_class: object, name: str) -> None:
     if data_class is AnyMsg:
         return
     if not isinstance(data_class, type) or not hasattr(data_class, "_type") \
@@ -434,7 +471,7 @@ def _check_data_class(data_class: Any, name: str) -> None:
         )
 
 
-def _serialize_checked(msg: Any) -> bytes:
+def _serialize_checked(msg: Message) -> bytes:
     """Serialize after the fast path failed: the error names the bad field (ROS's exception)."""
     from ddes.msg.message import serialize_checked
 
@@ -447,7 +484,8 @@ def _serialize_checked(msg: Any) -> bytes:
 
 
 
-def connect_later(world: World, pub: Publisher, sub: Subscriber, delay_ns: int) -> None:
+def connect_later(world: World, pub: Publisher[MessageClass], sub: Subscriber[MessageClass],
+                  delay_ns: int) -> None:
     """Connect ``pub`` to ``sub`` after ``delay_ns`` (the ROS connection handshake)."""
     def connect(_ev: Timeout) -> None:
         if pub._closed or sub._closed:

@@ -2,20 +2,22 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import simpy
 
 from ddes.errors import ROSException
-from ddes.time.units import duration_to_ns
+from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
+    from ddes.msg.message import MessageLike
 
 __all__ = ["wait_for_message"]
 
 
-def wait_for_message(node: Node, topic: str, data_class: Any, timeout: Any = None) -> simpy.Event:
+def wait_for_message(node: Node, topic: str, data_class: type[MessageLike],
+                     timeout: DurationLike | None = None) -> simpy.Event:
     """Event whose value is the next message on ``topic``.
 
     A temporary subscriber is created and removed once a message arrives.
@@ -29,7 +31,7 @@ def wait_for_message(node: Node, topic: str, data_class: Any, timeout: Any = Non
     result = env.event()
     resolved = node.resolve_name(topic)
 
-    def got(msg: Any) -> None:
+    def got(msg: MessageLike) -> None:
         if not result.triggered:
             sub.unregister()
             result.succeed(msg)
@@ -40,7 +42,7 @@ def wait_for_message(node: Node, topic: str, data_class: Any, timeout: Any = Non
         start = node.clock.now_ns()
         expiry = node.clock.wait_until(start + ns)
 
-        def expire(_ev: Any) -> None:
+        def expire(_ev: simpy.Event) -> None:
             if not result.triggered:
                 sub.unregister()
                 result.fail(ROSException(

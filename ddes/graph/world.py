@@ -12,23 +12,57 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Iterable
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, ClassVar, TypedDict
 
 from ddes.errors import ROSTopicException
 from ddes.graph.master import Master
 from ddes.graph.params import ParamServer
-from ddes.graph.topics import Connection, LinkModel, Publisher, Subscriber, connect_later
+from ddes.graph.topics import (
+    Connection,
+    LinkLatency,
+    LinkModel,
+    Publisher,
+    Subscriber,
+    connect_later,
+)
 from ddes.kernel.kernel import Kernel
 from ddes.msg.registry import MessageRegistry, default_registry
 from ddes.rospack import RosPack
-from ddes.time.units import DurationLike
 
 if TYPE_CHECKING:
-    from ddes.graph.node import Node
+    from typing_extensions import Unpack
 
-__all__ = ["World"]
+    from ddes.graph.node import Node, NodeOptions
+    from ddes.msg.message import MessageClass
 
-LinkLatency = DurationLike | Callable[[Any], DurationLike]
+__all__ = ["ConnectionStats", "LinkLatency", "TopicStats", "World"]
+
+
+class ConnectionStats(TypedDict):
+    """The counters of one connection in :meth:`World.topic_stats`."""
+
+    id: int
+    publisher: str
+    subscriber: str
+    sent: int
+    lost: int
+    received: int
+    dropped: int
+    delivered: int
+
+
+class TopicStats(TypedDict):
+    """What :meth:`World.topic_stats` returns: a topic's counters, summed over its connections."""
+
+    topic: str
+    type: str
+    published: int
+    sent: int
+    lost: int
+    received: int
+    dropped: int
+    delivered: int
+    connections: list[ConnectionStats]
 
 
 class World(Kernel):
@@ -70,7 +104,7 @@ class World(Kernel):
         #: Messages published before it exists are not delivered (as in ROS).
         self.connect_delay_ns: int = 1_000_000
         #: Where log lines are printed: ``fn(line, level)``, or None (trace only).
-        self.log_output: Callable[[str, int], Any] | None = None
+        self.log_output: Callable[[str, int], object] | None = None
         self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
         #: The world's master: registry of nodes, topics, services, and the parameters.
         self.master = Master(self)
@@ -121,7 +155,7 @@ class World(Kernel):
                 for conn in pub.connections:
                     conn.set_link(self.link_for(conn.pub, conn.sub))
 
-    def link_for(self, pub: Publisher, sub: Subscriber) -> LinkModel:
+    def link_for(self, pub: Publisher[MessageClass], sub: Subscriber[MessageClass]) -> LinkModel:
         """The transport model a connection from ``pub`` to ``sub`` uses."""
         best, best_score = LinkModel(), -1
         for (topic, pnode, snode), link in self._links:
@@ -136,27 +170,29 @@ class World(Kernel):
                 best, best_score = link, score
         return best
 
-    def graph_connect(self, pub: Publisher, sub: Subscriber) -> None:
+    def graph_connect(self, pub: Publisher[MessageClass], sub: Subscriber[MessageClass]) -> None:
         """Connect a publisher to a subscriber after :attr:`connect_delay_ns`."""
         connect_later(self, pub, sub, self.connect_delay_ns)
 
-    def topic_stats(self, topic: str) -> dict[str, Any]:
+    def topic_stats(self, topic: str) -> TopicStats:
         """Published/sent/lost/received/dropped/delivered counts of a topic and its connections."""
         entry = self.master.topics.get(topic)
         if entry is None:
             raise ROSTopicException(f"unknown topic {topic}; known: {sorted(self.master.topics)}")
         conns: list[Connection] = [c for p in entry.publishers for c in p.connections]
-        per: list[dict[str, Any]] = [
+        per: list[ConnectionStats] = [
             {"id": c.id, "publisher": c.pub.node.name, "subscriber": c.sub.node.name,
              "sent": c.sent, "lost": c.lost, "received": c.received, "dropped": c.dropped,
              "delivered": c.delivered} for c in conns]
-        total = {k: sum(int(c[k]) for c in per)
-                 for k in ("sent", "lost", "received", "dropped", "delivered")}
         return {"topic": topic, "type": entry.type,
-                "published": sum(p.seq for p in entry.publishers), **total, "connections": per}
+                "published": sum(p.seq for p in entry.publishers),
+                "sent": sum(c["sent"] for c in per), "lost": sum(c["lost"] for c in per),
+                "received": sum(c["received"] for c in per),
+                "dropped": sum(c["dropped"] for c in per),
+                "delivered": sum(c["delivered"] for c in per), "connections": per}
 
     # -- nodes ------------------------------------------------------------------
-    def create_node(self, name: str, **kwargs: Any) -> Node:
+    def create_node(self, name: str, **kwargs: Unpack[NodeOptions]) -> Node:
         """Create and start a node (see :class:`ddes.graph.node.Node`)."""
         cls = self.node_class
         if cls is None:

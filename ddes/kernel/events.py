@@ -21,12 +21,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from heapq import heappush
-from typing import Any
+from operator import attrgetter
+from typing import TYPE_CHECKING, Generic, TypeVar
 
 import simpy
 from simpy.events import NORMAL, PENDING, Event, Timeout
 
-__all__ = ["NsEnvironment", "is_pending", "post", "queued_events"]
+__all__ = ["NsEnvironment", "Posted", "is_pending", "now_of", "payload_of", "post", "queued_events"]
+
+_V = TypeVar("_V")
+_V_co = TypeVar("_V_co", covariant=True)
 
 
 class NsEnvironment(simpy.Environment):
@@ -35,20 +39,45 @@ class NsEnvironment(simpy.Environment):
     @property
     def now(self) -> int:
         """Current kernel time, integer nanoseconds."""
-        return self._now  # type: ignore[return-value]
+        return self._now  # type: ignore[return-value]  # every delay ddes schedules is an int
 
 
-def post(env: simpy.Environment, delay: int, value: Any,
-         callback: Callable[[Timeout], object]) -> Timeout:
+if TYPE_CHECKING:
+
+    class Posted(Timeout, Generic[_V_co]):
+        """The event :func:`post` schedules: a Timeout whose ``value`` is the posted value."""
+
+        @property
+        def value(self) -> _V_co: ...
+
+    def now_of(env: simpy.Environment) -> int: ...
+
+    def payload_of(event: Posted[_V]) -> _V: ...
+
+else:
+    Posted = Timeout  # only type checkers tell the value's type
+
+    #: ``now_of(env)`` is ``env.now`` for the hot paths: one C call instead of a Python property.
+    now_of = attrgetter("_now")
+
+    #: ``payload_of(event)`` is the value of a :func:`post` event (always triggered), as one C
+    #: call instead of the ``value`` property.
+    payload_of = attrgetter("_value")
+
+
+def post(env: simpy.Environment, delay: int, value: _V,
+         callback: Callable[[Posted[_V]], object]) -> Posted[_V]:
     """Schedule ``callback(event)`` after ``delay`` ns (>= 0); ``event.value == value``."""
     ev = Timeout.__new__(Timeout)
     ev.env = env
-    ev.callbacks = [callback]
+    # ev is the Posted[_V] the callback gets (its value is ``value``); SimPy ignores what
+    # callbacks return.
+    ev.callbacks = [callback]  # type: ignore[list-item]
     ev._value = value
     ev._delay = delay
     ev._ok = True
-    heappush(env._queue, (env._now + delay, NORMAL, next(env._eid), ev))  # type: ignore[attr-defined]
-    return ev
+    heappush(env._queue, (env._now + delay, NORMAL, next(env._eid), ev))
+    return ev  # type: ignore[return-value]  # see above
 
 
 def is_pending(event: Event) -> bool:
@@ -58,4 +87,4 @@ def is_pending(event: Event) -> bool:
 
 def queued_events(env: simpy.Environment) -> int:
     """How many events wait in the kernel's queue (for diagnostics and budgets)."""
-    return len(env._queue)  # type: ignore[attr-defined]
+    return len(env._queue)

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import hashlib
 import random
-from collections.abc import Callable, Generator, Mapping
+from collections.abc import Callable, Mapping
 from types import MappingProxyType
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 import simpy
 
@@ -34,9 +34,16 @@ from ddes.time.clock import KernelClock
 from ddes.time.rostime import Duration, Time, WallTime
 from ddes.time.units import DurationLike, TimeLike, to_ns
 
+if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
+
+    from ddes.kernel.events import Posted
+
 __all__ = ["Kernel"]
 
 _E = TypeVar("_E")
+_K = TypeVar("_K", bound="Kernel")
+_V = TypeVar("_V")
 
 
 class Kernel:
@@ -62,7 +69,7 @@ class Kernel:
         #: The kernel clock, shared by every node not on simulated time.
         self.kernel_clock = KernelClock(self.env)
         self._ids: dict[str, int] = {}
-        self._extensions: dict[str, Any] = {}
+        self._extensions: dict[str, object] = {}
 
     # -- time -----------------------------------------------------------------
     @property
@@ -95,7 +102,7 @@ class Kernel:
         return n
 
     # -- extension slots ----------------------------------------------------------
-    def extension(self, key: str, factory: Callable[[Any], _E]) -> _E:
+    def extension(self: _K, key: str, factory: Callable[[_K], _E]) -> _E:
         """The per-world object of a room (``"services"``, ``"tf2"``...), made on first use.
 
         ``factory(world)`` builds it once; later calls return the same object.
@@ -105,26 +112,26 @@ class Kernel:
         ext = self._extensions.get(key)
         if ext is None:
             ext = self._extensions[key] = factory(self)
-        return ext  # type: ignore[no-any-return]
+        return ext  # type: ignore[return-value]  # made by this key's factory
 
     @property
-    def extensions(self) -> Mapping[str, Any]:
+    def extensions(self) -> Mapping[str, object]:
         """The extension objects made so far, by key (read-only)."""
         return MappingProxyType(self._extensions)
 
     # -- processes ----------------------------------------------------------
-    def process(self, generator: Generator[Any, Any, Any]) -> simpy.Process:
+    def process(self, generator: ProcessGenerator) -> simpy.Process:
         """Start a process from a generator; it may ``yield`` ddes/SimPy events."""
         return self.env.process(generator)
 
-    def timeout(self, delay: DurationLike, value: Any = None) -> simpy.Timeout:
+    def timeout(self, delay: DurationLike, value: object = None) -> simpy.Timeout:
         """An event that fires after ``delay`` (Duration or seconds; >= 0)."""
         ns = to_ns(delay, "delay")
         if ns < 0:
             raise DdesValueError(f"negative delay {delay!r}; a timeout cannot go back in time")
         return self.env.timeout(ns, value)
 
-    def timeout_ns(self, delay_ns: int, value: Any = None) -> simpy.Timeout:
+    def timeout_ns(self, delay_ns: int, value: object = None) -> simpy.Timeout:
         """An event that fires after ``delay_ns`` nanoseconds (>= 0)."""
         if delay_ns < 0:
             raise DdesValueError(f"negative delay {delay_ns} ns; a timeout cannot go back in time")
@@ -134,11 +141,12 @@ class Kernel:
         """A fresh untriggered event of this world."""
         return self.env.event()
 
-    def post_ns(self, delay_ns: int, value: Any, callback: Callable[[Any], object]) -> simpy.Timeout:
+    def post_ns(self, delay_ns: int, value: _V,
+                callback: Callable[[Posted[_V]], object]) -> Posted[_V]:
         """Call ``callback(event)`` after ``delay_ns`` (``event.value`` is ``value``)."""
         return post(self.env, delay_ns, value, callback)
 
-    def call_at(self, t_ns: int, fn: Callable[[], Any]) -> simpy.Event:
+    def call_at(self, t_ns: int, fn: Callable[[], object]) -> simpy.Event:
         """Call ``fn()`` at absolute kernel time ``t_ns`` (no process needed)."""
         delay = t_ns - self.env.now
         if delay < 0:
@@ -179,7 +187,7 @@ class Kernel:
         self.run(Duration._from_ns(ns))
 
     # -- trace ----------------------------------------------------------------
-    def record(self, kind: str, source: str, **details: Any) -> None:
+    def record(self, kind: str, source: str, **details: object) -> None:
         """Append an event to the trace at the current kernel time."""
         self.trace.record(self.env.now, kind, source, details)
 

@@ -32,13 +32,14 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
+from ddes.time.units import HasNsec
 
 __all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
 
 Row = tuple[Any, ...]
 Listener = Callable[["TraceEvent"], None]
 
-_MISSING: Any = object()
+_MISSING = object()
 
 
 class TraceEvent(NamedTuple):
@@ -60,7 +61,7 @@ class TraceEvent(NamedTuple):
         )
 
 
-def canonical(value: Any) -> Any:
+def canonical(value: object) -> object:
     """JSON fallback for values that json does not know.
 
     Time/Duration become integer nanoseconds, messages become dicts of their
@@ -92,19 +93,21 @@ def _event(raw: Row) -> TraceEvent:
     return TraceEvent(raw[0], raw[1], raw[2], dict(zip(raw[3], raw[4:])))
 
 
-def _same(have: Any, want: Any) -> bool:
+def _same(have: object, want: object) -> bool:
     """Detail matching: equal values; a Time/Duration also equals its int nanoseconds."""
     if have is _MISSING:
         return False
     if have == want:
         return True
     for a, b in ((have, want), (want, have)):
-        if type(b) is int and callable(getattr(a, "to_nsec", None)):
-            return bool(a.to_nsec() == b)
+        if type(b) is int:
+            to_nsec = getattr(a, "to_nsec", None)
+            if callable(to_nsec):
+                return bool(to_nsec() == b)
     return False
 
 
-def _nanoseconds(value: Any, name: str) -> int | None:
+def _nanoseconds(value: int | HasNsec | None, name: str) -> int | None:
     if value is None:
         return None
     if type(value) is int:
@@ -118,7 +121,7 @@ def _nanoseconds(value: Any, name: str) -> int | None:
     )
 
 
-def _match_details(details: Mapping[str, Any], want: Mapping[str, Any]) -> bool:
+def _match_details(details: Mapping[str, object], want: Mapping[str, object]) -> bool:
     return all(_same(details.get(k, _MISSING), v) for k, v in want.items())
 
 
@@ -147,7 +150,7 @@ class TraceSelection(list[TraceEvent]):
         """The latest event, or None."""
         return self[-1] if self else None
 
-    def where(self, **details: Any) -> TraceSelection:
+    def where(self, **details: object) -> TraceSelection:
         """The events whose details have all these values (compared with ``==``)."""
         return TraceSelection(ev for ev in self if _match_details(ev.details, details))
 
@@ -211,11 +214,11 @@ class Trace:
     # copy/deepcopy/pickle: append_row must be re-bound to the new object's own list
     # (copy.deepcopy treats a bound builtin method as atomic: it would keep appending
     # to the original list).
-    def __getstate__(self) -> dict[str, Any]:
+    def __getstate__(self) -> dict[str, object]:
         skip = {"append_row", "record_fast", "_notify", "_listeners", "_decisions", "_fast"}
         return {name: getattr(self, name) for name in self.__slots__ if name not in skip}
 
-    def __setstate__(self, state: dict[str, Any]) -> None:
+    def __setstate__(self, state: dict[str, object]) -> None:
         for name, value in state.items():
             setattr(self, name, value)
         self._rebind()
@@ -390,9 +393,9 @@ class Trace:
         kind: str | tuple[str, ...] | None = None,
         source: str | tuple[str, ...] | None = None,
         prefix: str | None = None,
-        since_ns: Any = None,
-        until_ns: Any = None,
-        **details: Any,
+        since_ns: int | HasNsec | None = None,
+        until_ns: int | HasNsec | None = None,
+        **details: object,
     ) -> TraceSelection:
         """The stored events that match every criterion given, in order.
 
@@ -434,9 +437,9 @@ class Trace:
         kinds: tuple[str, ...] | None,
         source: str | tuple[str, ...] | None,
         prefix: str | None,
-        since_ns: Any,
-        until_ns: Any,
-        details: Mapping[str, Any],
+        since_ns: int | HasNsec | None,
+        until_ns: int | HasNsec | None,
+        details: Mapping[str, object],
         *,
         kind_prefixes: bool = True,
     ) -> TraceSelection:

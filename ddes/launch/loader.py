@@ -25,7 +25,6 @@ import shlex
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
 
 from ddes.errors import DdesValueError, ROSLaunchException
 from ddes.graph.names import canonicalize_name, get_ros_namespace, is_legal_name
@@ -33,7 +32,7 @@ from ddes.launch.params import ParamLoader
 from ddes.launch.plan import LaunchPlan, NodeSpec
 from ddes.launch.scope import Scope
 from ddes.launch.substitution import PackageFinder, SubstitutionContext, resolve_args
-from ddes.launch.values import convert_value, parse_bool_attr, parse_float_attr
+from ddes.launch.values import ParamValue, convert_value, parse_bool_attr, parse_float_attr
 from ddes.launch.xmltree import Element, parse_xml
 from ddes.rospack import RosPack
 
@@ -391,7 +390,7 @@ class _Loader:
             respawn = parse_bool_attr(o["respawn"], False, "respawn")
             respawn_delay = parse_float_attr(o["respawn_delay"], 0.0, "respawn_delay")
         remap_scope, env_scope = scope.child(""), scope.child("")
-        own: dict[str, Any] = {}
+        own: dict[str, ParamValue] = {}
         self.params.sink = own
         for c in el.children:
             tag = c.tag.lower()

@@ -13,7 +13,7 @@ siblings alone.
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import yaml
 
@@ -21,7 +21,7 @@ from ddes.errors import ROSLaunchException
 from ddes.graph.names import canonicalize_name, is_private, ns_join
 from ddes.launch.plan import LaunchPlan, RosparamCommand
 from ddes.launch.substitution import resolve_args
-from ddes.launch.values import convert_value, load_rosparam_yaml, parse_bool_attr
+from ddes.launch.values import ParamValue, convert_value, load_rosparam_yaml, parse_bool_attr
 from ddes.launch.xmltree import Element
 
 if TYPE_CHECKING:
@@ -43,9 +43,9 @@ class ParamLoader:
 
     def __init__(self, plan: LaunchPlan) -> None:
         self.plan = plan
-        self.sink: dict[str, Any] | None = None
+        self.sink: dict[str, ParamValue] | None = None
 
-    def add(self, key: str, value: Any) -> None:
+    def add(self, key: str, value: ParamValue) -> None:
         """Set ``key`` in the plan (later values win; the first position is kept)."""
         key = canonicalize_name(key)
         parts = [p for p in key.split("/") if p]
@@ -59,7 +59,7 @@ class ParamLoader:
         if self.sink is not None:
             self.sink[key] = value
 
-    def add_tree(self, name: str, value: Any) -> None:
+    def add_tree(self, name: str, value: ParamValue) -> None:
         """Set ``value`` at ``name``, unrolling dictionaries into leaf parameters."""
         if not name:
             raise ROSLaunchException("no parameter name specified")
@@ -97,7 +97,7 @@ class ParamLoader:
         name = resolve_args(el.attrs["name"].strip(), scope.subst)  # stripped, then resolved
         if not name:
             raise ROSLaunchException("parameter name must be non-empty")
-        result: Any
+        result: ParamValue
         if command is not None:
             raise ROSLaunchException(
                 f"command=\"{command}\" is not supported: ddes runs no external processes. "

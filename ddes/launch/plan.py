@@ -24,9 +24,9 @@ for display and introspection: their values are already in
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 from ddes.errors import DdesKeyError
+from ddes.launch.values import ParamValue
 
 __all__ = ["LaunchPlan", "NodeSpec", "RosparamCommand"]
 
@@ -54,7 +54,7 @@ class NodeSpec:
     namespace: str = "/"
     args: list[str] = field(default_factory=list)
     remappings: list[tuple[str, str]] = field(default_factory=list)
-    params: dict[str, Any] = field(default_factory=dict)
+    params: dict[str, ParamValue] = field(default_factory=dict)
     output: str | None = None
     respawn: bool = False
     respawn_delay: float = 0.0
@@ -90,10 +90,10 @@ class RosparamCommand:
 class LaunchPlan:
     """Everything a launch file asks for (see the module docstring for the order)."""
 
-    params: dict[str, Any] = field(default_factory=dict)
+    params: dict[str, ParamValue] = field(default_factory=dict)
     clear_params: list[str] = field(default_factory=list)
     rosparam_commands: list[RosparamCommand] = field(default_factory=list)
-    rosparam_loads: list[tuple[str, Any]] = field(default_factory=list)
+    rosparam_loads: list[tuple[str, ParamValue]] = field(default_factory=list)
     nodes: list[NodeSpec] = field(default_factory=list)
     args: dict[str, str] = field(default_factory=dict)
     files: list[str] = field(default_factory=list)
@@ -131,7 +131,7 @@ class LaunchPlan:
         return "\n".join(out) + "\n"
 
 
-def _summary_value(value: Any) -> str:
+def _summary_value(value: ParamValue) -> str:
     """roslaunch's ``strip_string``: at most 20 characters, ``<...>`` for unprintables."""
     text = value.decode("latin-1") if isinstance(value, bytes) else str(value)
     if len(text) > 20:

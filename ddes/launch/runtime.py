@@ -32,7 +32,7 @@ import hashlib
 import uuid
 from collections.abc import Callable, Iterator
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import simpy
 import yaml
@@ -45,6 +45,7 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.launch.plan import LaunchPlan, NodeSpec
     from ddes.rospack import RosPack
+    from ddes.time.units import DurationLike
 
 __all__ = ["CORE_PARAMS", "LaunchRunner", "LogRouter", "Process", "core_running", "node_pid",
            "node_uri", "run_id", "start_core"]
@@ -350,8 +351,8 @@ class LaunchRunner:
             self.out("all processes on machine have died, roslaunch will exit")
             self._schedule(0, self.shutdown)
 
-    def _schedule(self, delay_s: float, fn: Callable[[], Any]) -> None:
-        ev = self.world.env.timeout(int(round(delay_s * 1e9)))
+    def _schedule(self, delay: DurationLike, fn: Callable[[], None]) -> None:
+        ev = self.world.timeout(delay)
         ev.callbacks.append(lambda _ev: fn())
 
     def _respawn(self, proc: Process) -> None:

@@ -23,7 +23,6 @@ same inheritance rules:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 from ddes.errors import ROSLaunchException
 from ddes.graph.names import (
@@ -34,6 +33,7 @@ from ddes.graph.names import (
     ns_join,
 )
 from ddes.launch.substitution import SubstitutionContext
+from ddes.launch.values import ParamValue
 
 __all__ = ["Scope"]
 
@@ -46,7 +46,7 @@ class Scope:
     subst: SubstitutionContext
     parent: Scope | None = None
     remaps: list[tuple[str, str]] = field(default_factory=list)
-    private_params: list[tuple[str, Any]] = field(default_factory=list)
+    private_params: list[tuple[str, ParamValue]] = field(default_factory=list)
     env: list[tuple[str, str]] = field(default_factory=list)
     arg_names: list[str] = field(default_factory=list)
     include_args: dict[str, str] | None = None
@@ -80,7 +80,7 @@ class Scope:
             chain=self.chain,
         )
 
-    def add_private_param(self, key: str, value: Any) -> None:
+    def add_private_param(self, key: str, value: ParamValue) -> None:
         """Declare a ``~param`` for later nodes; replaces one with the same key."""
         self.private_params[:] = [p for p in self.private_params if p[0] != key]
         self.private_params.append((key, value))

@@ -40,7 +40,7 @@ import random
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Protocol
 
 from ddes.errors import ROSLaunchException
 from ddes.graph.names import anonymous_name
@@ -263,7 +263,7 @@ _APPLY: dict[str, Callable[[str, str, list[str], SubstitutionContext], str]] = {
 
 # -- $(eval ...) ---------------------------------------------------------------------------
 
-_SAFE_BUILTINS: dict[str, Any] = {
+_SAFE_BUILTINS: dict[str, object] = {
     f.__name__: f
     for f in (abs, all, any, bool, chr, dict, divmod, enumerate, filter, float, format, int,
               isinstance, len, list, map, max, min, ord, pow, range, repr, reversed, round,
@@ -271,15 +271,15 @@ _SAFE_BUILTINS: dict[str, Any] = {
 }
 _SAFE_BUILTINS.update({"None": None, "True": True, "False": False})
 
-_MATH: dict[str, Any] = {k: v for k, v in vars(math).items() if not k.startswith("_")}
+_MATH: dict[str, object] = {k: v for k, v in vars(math).items() if not k.startswith("_")}
 
 
-class _EvalNames(Mapping[str, Any]):
+class _EvalNames(Mapping[str, object]):
     """Name lookup for $(eval): functions and math first, then the args (auto-converted)."""
 
     def __init__(self, ctx: SubstitutionContext) -> None:
         self._ctx = ctx
-        self._functions: dict[str, Any] = {
+        self._functions: dict[str, object] = {
             "true": True, "false": False, "True": True, "False": False,
             "env": ctx.env, "optenv": ctx.optenv, "find": ctx.find,
             "anon": ctx.anon_name,
@@ -288,7 +288,7 @@ class _EvalNames(Mapping[str, Any]):
         }
         self._functions.update(_MATH)
 
-    def __getitem__(self, key: str) -> Any:
+    def __getitem__(self, key: str) -> object:
         if key in self._functions:
             return self._functions[key]
         return convert_value(self._ctx.args[key], "auto")

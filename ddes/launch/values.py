@@ -22,16 +22,21 @@ import math
 import operator
 import re
 from collections.abc import Callable
-from typing import Any
+from typing import TypeAlias
 
 import yaml
 
 from ddes.errors import ROSLaunchException
 
-__all__ = ["convert_value", "load_rosparam_yaml", "parse_bool_attr", "parse_float_attr"]
+__all__ = ["ParamValue", "convert_value", "load_rosparam_yaml", "parse_bool_attr",
+           "parse_float_attr"]
+
+#: A parameter value as the parameter server holds it (XML-RPC types): bool, int, float, str,
+#: bytes (``binfile``), and lists and string-keyed dicts of them (YAML).
+ParamValue: TypeAlias = bool | int | float | str | bytes | list["ParamValue"] | dict[str, "ParamValue"]
 
 
-def convert_value(value: str, type_: str) -> Any:
+def convert_value(value: str, type_: str) -> ParamValue:
     """Convert the text ``value`` to ``type_`` (auto, str, int, double, bool, yaml)."""
     t = type_.lower()
     if t == "auto":
@@ -103,7 +108,7 @@ def parse_float_attr(value: str | None, default: float, label: str) -> float:
 
 # -- rosparam's YAML extensions ------------------------------------------------------------
 
-_BINOPS: dict[type[ast.operator], Callable[[Any, Any], Any]] = {
+_BINOPS: dict[type[ast.operator], Callable[[float, float], float]] = {
     ast.Add: operator.add,
     ast.Sub: operator.sub,
     ast.Mult: operator.mul,
@@ -112,7 +117,7 @@ _BINOPS: dict[type[ast.operator], Callable[[Any, Any], Any]] = {
     ast.Mod: operator.mod,
     ast.Pow: operator.pow,
 }
-_UNOPS: dict[type[ast.unaryop], Callable[[Any], Any]] = {
+_UNOPS: dict[type[ast.unaryop], Callable[[float], float]] = {
     ast.UAdd: operator.pos,
     ast.USub: operator.neg,
 }
@@ -128,9 +133,9 @@ def _arith(node: ast.AST) -> float:
     if isinstance(node, ast.Name) and node.id == "pi":
         return math.pi
     if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-        return _BINOPS[type(node.op)](_arith(node.left), _arith(node.right))  # type: ignore[no-any-return]
+        return _BINOPS[type(node.op)](_arith(node.left), _arith(node.right))
     if isinstance(node, ast.UnaryOp) and type(node.op) in _UNOPS:
-        return _UNOPS[type(node.op)](_arith(node.operand))  # type: ignore[no-any-return]
+        return _UNOPS[type(node.op)](_arith(node.operand))
     raise ValueError("only numbers, pi, + - * / // % ** and parentheses are allowed")
 
 
@@ -166,7 +171,7 @@ _RosparamLoader.add_implicit_resolver("!degrees", re.compile(r"^deg\([^\)]*\)$")
 _RosparamLoader.add_implicit_resolver("!radians", re.compile(r"^rad\([^\)]*\)$"), ["r"])
 
 
-def load_rosparam_yaml(text: str) -> Any:
+def load_rosparam_yaml(text: str) -> ParamValue:
     """Parse ``<rosparam>`` YAML; empty text gives ``{}`` (roslaunch #3162)."""
     data = yaml.load(text, Loader=_RosparamLoader)  # noqa: S506 - a SafeLoader subclass
     return {} if data is None else data

@@ -20,12 +20,44 @@ from __future__ import annotations
 
 import copy
 from struct import error as _struct_error
-from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple, Protocol
 
-from ddes.msg.spec import MsgSpec
+from ddes.msg.spec import MsgSpec, SrvSpec
 from ddes.msg.strify import strify_message
 
-__all__ = ["FieldInfo", "Message", "ServiceDefinition"]
+if TYPE_CHECKING:
+    from typing_extensions import Self
+
+__all__ = ["BytesWriter", "FieldInfo", "Message", "MessageClass", "MessageLike", "ServiceDefinition"]
+
+
+class MessageLike(Protocol):
+    """A message as topics move it: an instance of a generated :class:`Message` class,
+    of :class:`~ddes.msg.anymsg.AnyMsg`, or of anything shaped like them.
+
+    A topic's ``data_class`` is a ``type[MessageLike]``: it has genpy's class
+    attributes ``_type``, ``_md5sum``, ``_full_text`` and ``_has_header``,
+    and its instances turn into wire bytes and back.
+    """
+
+    _type: ClassVar[str]
+    _md5sum: ClassVar[str]
+    _full_text: ClassVar[str]
+    _has_header: ClassVar[bool]
+
+    def _serialize_to_bytes(self) -> bytes: ...
+
+    def _deserialize_from(self, data: bytes) -> Self: ...
+
+
+#: A topic's ``data_class``: a generated message class, ``AnyMsg``, or one shaped like them.
+MessageClass = type[MessageLike]
+
+
+class BytesWriter(Protocol):
+    """Where :meth:`Message.serialize` writes (``io.BytesIO``, a file opened ``"wb"``...)."""
+
+    def write(self, data: bytes, /) -> object: ...
 
 
 class FieldInfo(NamedTuple):
@@ -90,10 +122,10 @@ class Message(metaclass=_MessageMeta):
     def _serialize_to_bytes(self) -> bytes:  # generated per class
         return b""
 
-    def _deserialize_from(self, data: bytes) -> Message:  # generated per class
+    def _deserialize_from(self, data: bytes) -> Self:  # generated per class
         return self
 
-    def serialize(self, buff: Any) -> None:
+    def serialize(self, buff: BytesWriter) -> None:
         """Write the ROS 1 wire form of this message to ``buff`` (has ``.write``).
 
         A field holding a value of the wrong type or out of range raises
@@ -157,7 +189,7 @@ class Message(metaclass=_MessageMeta):
             setattr(new, name, getattr(self, name))
         return new
 
-    def __deepcopy__(self, memo: dict[int, Any]) -> Message:
+    def __deepcopy__(self, memo: dict[int, object]) -> Message:
         new = object.__new__(type(self))
         memo[id(self)] = new
         for name in self.__slots__:
@@ -181,7 +213,7 @@ class ServiceDefinition:
     _md5sum: ClassVar[str] = ""
     _request_class: ClassVar[type[Message]]
     _response_class: ClassVar[type[Message]]
-    _spec: ClassVar[Any] = None
+    _spec: ClassVar[SrvSpec | None] = None
 
 
 def serialize_checked(msg: Message) -> bytes:

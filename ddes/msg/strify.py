@@ -46,9 +46,10 @@ def strify_message(val: Any, indent: str = "", time_offset: Time | None = None,
     kind = type(val)
     if kind in (int, float) and fixed_numeric_width is not None:
         if kind is float:
-            text = ("%." + str(fixed_numeric_width) + "f") % val
+            text: str = ("%." + str(fixed_numeric_width) + "f") % val
             return text[:max(text.find("."), fixed_numeric_width)]
-        return ("%" + str(fixed_numeric_width) + "d") % val
+        padded: str = ("%" + str(fixed_numeric_width) + "d") % val
+        return padded
     if kind in (int, float, bool):
         return str(val)
     if isinstance(val, str):

@@ -26,4 +26,4 @@ def deserialize_message(cls: type[M], data: bytes | bytearray | memoryview) -> M
     Truncated data raises :class:`~ddes.errors.DeserializationError`.
     """
     msg = object.__new__(cls)
-    return msg._deserialize_from(data if type(data) is bytes else bytes(data))  # type: ignore[return-value]
+    return msg._deserialize_from(data if type(data) is bytes else bytes(data))

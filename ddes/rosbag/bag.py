@@ -29,13 +29,25 @@ the raw ``position`` is None; a file object given as ``f`` is not closed.
 from __future__ import annotations
 
 import bisect
+import datetime
 import heapq
 import io
 import os
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from operator import itemgetter
-from typing import IO, Any, NamedTuple
+from types import TracebackType
+from typing import (
+    IO,
+    TYPE_CHECKING,
+    Literal,
+    NamedTuple,
+    Protocol,
+    TypedDict,
+    Union,
+    cast,
+    overload,
+)
 
 from ddes.errors import (
     DdesError,
@@ -68,19 +80,28 @@ from ddes.rosbag.info import (
 from ddes.rosbag.mcapfile import MCAP_MAGIC, decode_mcap, encode_mcap
 from ddes.rosbag.records import ConnectionInfo, canonicalize_topic
 from ddes.time.rostime import Time
+from ddes.time.units import HasNsec, to_ns
+
+if TYPE_CHECKING:
+    from ddes.msg.message import Message
+    from ddes.msg.registry import MessageRegistry
 
 __all__ = [
     "Bag",
+    "BagClock",
     "BagMessage",
     "BagMessageWithConnectionHeader",
+    "BagOptions",
     "Compression",
     "CompressionTuple",
+    "ConnectionFilter",
+    "RawMessage",
     "TopicTuple",
     "TypesAndTopicsTuple",
 ]
 
 _time_key = itemgetter(0)
-_TIME_LIMIT = 2**32 * 1_000_000_000
+_TIME_LIMIT = to_ns(2**32)  # a bag stores u32 seconds
 
 
 class Compression:
@@ -91,11 +112,44 @@ class Compression:
     LZ4 = "lz4"
 
 
+#: A message as ``read_messages(raw=True)`` gives it and ``write(..., raw=True)`` takes it:
+#: ``(datatype, bytes, md5sum, position, pytype)``; ``write`` also takes the 4-tuple without
+#: ``position``.
+RawMessage = Union[
+    "tuple[str, bytes, str, int | None, type[Message] | None]",
+    "tuple[str, bytes, str, type[Message] | None]",
+]
+#: ``connection_filter(topic, datatype, md5sum, msg_def, header) -> bool``.
+ConnectionFilter = Callable[[str, str, str, str, "dict[str, str]"], bool]
+#: Topics to select: one topic, several, or None for all.
+Topics = str | Iterable[str] | None
+
+
+class _RosTimeSource(Protocol):
+    def get_rostime(self) -> Time: ...
+
+
+class _TimeSource(Protocol):
+    def time(self) -> Time: ...
+
+
+#: Where ``write(t=None)`` takes the time: a node or a clock (``get_rostime()``), a world
+#: (``time()``), or a function returning a Time.
+BagClock = _RosTimeSource | _TimeSource | Callable[[], Time]
+
+
+class BagOptions(TypedDict, total=False):
+    """``Bag(options=...)`` and :attr:`Bag.options`."""
+
+    compression: str
+    chunk_threshold: int
+
+
 class BagMessage(NamedTuple):
-    """One message read from a bag."""
+    """One message read from a bag (``message`` is a :data:`RawMessage` with ``raw=True``)."""
 
     topic: str
-    message: Any
+    message: Message | RawMessage
     timestamp: Time
 
 
@@ -103,7 +157,7 @@ class BagMessageWithConnectionHeader(NamedTuple):
     """One message read with ``return_connection_header=True``."""
 
     topic: str
-    message: Any
+    message: Message | RawMessage
     timestamp: Time
     connection_header: dict[str, str]
 
@@ -132,27 +186,27 @@ class CompressionTuple(NamedTuple):
     compressed: int
 
 
-def _time_ns(t: Any, what: str) -> int:
-    to_nsec = getattr(t, "to_nsec", None)
-    if to_nsec is None or isinstance(t, (int, float)):
+def _stamp_ns(t: Time | HasNsec, what: str) -> int:
+    """A message time in ns: rosbag takes a Time, never bare seconds, within the u32 range."""
+    if isinstance(t, (int, float)) or not isinstance(t, HasNsec):
         raise DdesTypeError(
             f"{what} must be a Time (e.g. Time(secs, nsecs) or node.get_rostime()), got {t!r}")
-    ns = int(to_nsec())
+    ns = to_ns(t, what)
     if not 0 <= ns < _TIME_LIMIT:
         raise DdesValueError(f"{what} {t!r} is outside the ROS 1 time range a bag can hold "
                              "(0 to 2**32 seconds)")
     return ns
 
 
-def _bound(t: Any, what: str) -> int | None:
+def _bound(t: Time | HasNsec | None, what: str) -> int | None:
     if t is None:
         return None
-    if not hasattr(t, "to_nsec"):
+    if not isinstance(t, HasNsec):
         raise DdesTypeError(f"{what} must be a Time or None, got {t!r}")
-    return None if not t else int(t.to_nsec())
+    return None if not t else to_ns(t, what)
 
 
-def _is_mcap_name(f: Any) -> bool:
+def _is_mcap_name(f: str | os.PathLike[str]) -> bool:
     return str(os.fspath(f)).lower().endswith(".mcap")
 
 
@@ -184,10 +238,12 @@ class Bag:
         package path); types it lacks are rebuilt from ``message_definition``.
     """
 
-    def __init__(self, f: Any = None, mode: str | None = None, compression: str = "none",
+    def __init__(self, f: str | os.PathLike[str] | IO[bytes] | None = None,
+                 mode: str | None = None, compression: str = "none",
                  chunk_threshold: int = 768 * 1024, allow_unindexed: bool = False,
-                 options: dict[str, Any] | None = None, skip_index: bool = False, *,
-                 clock: Any = None, format: str | None = None, registry: Any = None) -> None:
+                 options: BagOptions | None = None, skip_index: bool = False, *,
+                 clock: BagClock | None = None, format: str | None = None,
+                 registry: MessageRegistry | None = None) -> None:
         if options is not None:
             if not isinstance(options, dict):
                 raise DdesTypeError(f"options must be a dict, got {options!r}")
@@ -216,7 +272,7 @@ class Bag:
         self._topic_connections: dict[str, int] = {}
         self._header_connections: dict[tuple[str, str], list[tuple[dict[str, str], int]]] = {}
         self._next_id = 0
-        self._classes: dict[int, type] = {}
+        self._classes: dict[int, type[Message]] = {}
         self._loaded: FileStats | None = None
         self._encoded: tuple[bytes, FileStats] | None = None
         self._closed = False
@@ -230,7 +286,7 @@ class Bag:
         self._file_pos = 0
         if f is None:
             return
-        if hasattr(f, "read") or hasattr(f, "write"):
+        if not isinstance(f, (str, os.PathLike)):  # a file object (has read or write)
             self._file = f
             self._file_pos = f.tell()
             if mode in ("r", "a"):
@@ -283,15 +339,21 @@ class Bag:
         return out.getvalue()
 
     @classmethod
-    def from_bytes(cls, data: bytes, *, allow_unindexed: bool = False, **kwargs: Any) -> Bag:
-        """An in-memory bag holding the messages of .bag or MCAP ``data``."""
-        bag = cls(None, "w", **kwargs)
+    def from_bytes(cls, data: bytes, *, allow_unindexed: bool = False, compression: str = "none",
+                   chunk_threshold: int = 768 * 1024, options: BagOptions | None = None,
+                   skip_index: bool = False, clock: BagClock | None = None,
+                   format: str | None = None, registry: MessageRegistry | None = None) -> Bag:
+        """An in-memory bag holding the messages of .bag or MCAP ``data`` (the other keywords
+        are the constructor's)."""
+        bag = cls(None, "w", compression, chunk_threshold, options=options, skip_index=skip_index,
+                  clock=clock, format=format, registry=registry)
         bag._load(bytes(data), "<bytes>", allow_unindexed)
         return bag
 
-    def save(self, f: Any, *, format: str | None = None, compression: str | None = None) -> None:
+    def save(self, f: str | os.PathLike[str] | IO[bytes], *, format: str | None = None,
+             compression: str | None = None) -> None:
         """Write the bag to a path (via ``NAME.active``, then renamed) or a file object."""
-        if hasattr(f, "write"):
+        if not isinstance(f, (str, os.PathLike)):  # a file object
             self._write_to(f, format or "bag", compression)
             return
         path = str(os.fspath(f))
@@ -347,7 +409,8 @@ class Bag:
     def __enter__(self) -> Bag:
         return self
 
-    def __exit__(self, *exc: Any) -> None:
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
         self.close()
 
     def _check_open(self) -> None:
@@ -370,7 +433,7 @@ class Bag:
         return 200
 
     @property
-    def options(self) -> dict[str, Any]:
+    def options(self) -> BagOptions:
         return {"compression": self._compression, "chunk_threshold": self._chunk_threshold}
 
     @property
@@ -430,7 +493,7 @@ class Bag:
         self._indexes[cid] = []
         return cid
 
-    def _now(self) -> Any:
+    def _now(self) -> Time:
         clock = self._clock
         if clock is None:
             raise DdesValueError(
@@ -450,8 +513,8 @@ class Bag:
             raise DdesValueError(f"bag {self._filename or ''} is open for reading ('r'); "
                                  "open it with mode 'a' to add messages")
 
-    def write(self, topic: str, msg: Any, t: Any = None, raw: bool = False,
-              connection_header: dict[str, str] | None = None) -> None:
+    def write(self, topic: str, msg: Message | AnyMsg | RawMessage, t: Time | None = None,
+              raw: bool = False, connection_header: dict[str, str] | None = None) -> None:
         """Write ``msg`` on ``topic`` at ``t`` (rosbag.Bag.write).
 
         ``raw=True`` takes ``msg`` as ``(type, bytes, md5sum[, position], pytype)``.
@@ -465,10 +528,10 @@ class Bag:
         if msg is None:
             raise DdesValueError("msg is invalid: None")
         if type(t) is Time and t.secs < 4294967296:
-            ns = t.secs * 1_000_000_000 + t.nsecs
+            ns = to_ns(t, "t")  # the common case: a Time within the u32 range
         else:
-            ns = _time_ns(self._now() if t is None else t, "t")
-        if type(msg) is AnyMsg:
+            ns = _stamp_ns(self._now() if t is None else t, "t")
+        if isinstance(msg, AnyMsg):
             data = bytes(msg._buff)
             header = dict(msg._connection_header)
             if connection_header is not None:
@@ -489,11 +552,13 @@ class Bag:
                 raise DdesTypeError(f"raw message data must be bytes, got {type(data).__name__}")
             data = bytes(data)
         else:
-            if not hasattr(type(msg), "_md5sum") or not hasattr(msg, "_serialize_to_bytes"):
+            if isinstance(msg, tuple) or not hasattr(type(msg), "_md5sum") \
+                    or not hasattr(msg, "_serialize_to_bytes"):
                 raise DdesTypeError(f"msg must be a ROS message, got {msg!r}")
             from ddes.msg.message import serialize_checked
 
             data = serialize_checked(msg)
+            cls = type(msg)
         cid = self._topic_connections.get(topic)
         if cid is None:
             if connection_header is not None:
@@ -507,7 +572,6 @@ class Bag:
                 header = {"topic": topic, "type": datatype, "md5sum": md5sum,
                           "message_definition": pytype._full_text}
             else:
-                cls = type(msg)
                 header = {"topic": topic, "type": cls._type, "md5sum": cls._md5sum,
                           "message_definition": cls._full_text}
             cid = self._new_connection(topic, header)
@@ -529,7 +593,7 @@ class Bag:
         self._append(cid, t_ns, data)
 
     # -- reading ---------------------------------------------------------------------------------
-    def _lookup_class(self, datatype: str) -> Any:
+    def _lookup_class(self, datatype: str) -> type[Message]:
         from ddes.msg import get_message_class
 
         try:
@@ -538,7 +602,7 @@ class Bag:
             raise ROSBagException(f"cannot locate message class and no message class provided "
                                   f"for [{datatype}]: {exc}") from None
 
-    def message_class(self, conn: ConnectionInfo) -> Any:
+    def message_class(self, conn: ConnectionInfo) -> type[Message]:
         """The class of the messages of ``conn`` (the registry's, or rebuilt from the bag)."""
         cls = self._classes.get(conn.id)
         if cls is not None:
@@ -563,7 +627,7 @@ class Bag:
         self._classes[conn.id] = cls
         return cls
 
-    def _deserialize(self, conn: ConnectionInfo, t: int, data: bytes) -> Any:
+    def _deserialize(self, conn: ConnectionInfo, t: int, data: bytes) -> Message:
         cls = self.message_class(conn)
         try:
             return cls.__new__(cls)._deserialize_from(data)
@@ -573,7 +637,7 @@ class Bag:
                 f"(connection {conn.id}, {conn.datatype}) cannot be deserialized: {exc}"
             ) from None
 
-    def _select(self, topics: Any = None, connection_filter: Callable[..., Any] | None = None,
+    def _select(self, topics: Topics = None, connection_filter: ConnectionFilter | None = None,
                 ) -> list[ConnectionInfo]:
         if topics and isinstance(topics, str):
             topics = [topics]
@@ -598,9 +662,26 @@ class Bag:
                 return
             yield entry
 
-    def read_messages(self, topics: Any = None, start_time: Any = None, end_time: Any = None,
-                      connection_filter: Callable[..., Any] | None = None, raw: bool = False,
-                      return_connection_header: bool = False) -> Iterator[Any]:
+    @overload
+    def read_messages(self, topics: Topics = None, start_time: Time | None = None,
+                      end_time: Time | None = None,
+                      connection_filter: ConnectionFilter | None = None, raw: bool = False,
+                      return_connection_header: Literal[False] = False) -> Iterator[BagMessage]:
+        ...
+
+    @overload
+    def read_messages(self, topics: Topics = None, start_time: Time | None = None,
+                      end_time: Time | None = None,
+                      connection_filter: ConnectionFilter | None = None, raw: bool = False, *,
+                      return_connection_header: Literal[True],
+                      ) -> Iterator[BagMessageWithConnectionHeader]:
+        ...
+
+    def read_messages(self, topics: Topics = None, start_time: Time | None = None,
+                      end_time: Time | None = None,
+                      connection_filter: ConnectionFilter | None = None, raw: bool = False,
+                      return_connection_header: bool = False,
+                      ) -> Iterator[BagMessage] | Iterator[BagMessageWithConnectionHeader]:
         """Messages in time order as ``BagMessage(topic, message, timestamp)``.
 
         ``topics`` is a topic or a list; ``start_time``/``end_time`` are
@@ -611,10 +692,11 @@ class Bag:
         self._check_open()
         conns = self._select(topics, connection_filter)
         start, end = _bound(start_time, "start_time"), _bound(end_time, "end_time")
-        return self._read(conns, start, end, raw, return_connection_header)
+        messages = self._read(conns, start, end, raw, return_connection_header)
+        return cast("Iterator[BagMessage] | Iterator[BagMessageWithConnectionHeader]", messages)
 
     def _read(self, conns: list[ConnectionInfo], start: int | None, end: int | None, raw: bool,
-              with_header: bool) -> Iterator[Any]:
+              with_header: bool) -> Iterator[BagMessage | BagMessageWithConnectionHeader]:
         by_id = {c.id: c for c in conns}
         for t, cid, data in self._entries(conns, start, end):
             conn = by_id[cid]
@@ -623,7 +705,7 @@ class Bag:
                     pytype = self.message_class(conn)
                 except ROSBagException:
                     pytype = None
-                msg: Any = (conn.datatype, data, conn.md5sum, None, pytype)
+                msg: Message | RawMessage = (conn.datatype, data, conn.md5sum, None, pytype)
             else:
                 msg = self._deserialize(conn, t, data)
             stamp = Time._from_ns(t)
@@ -632,16 +714,16 @@ class Bag:
             else:
                 yield BagMessage(conn.topic, msg, stamp)
 
-    def __iter__(self) -> Iterator[Any]:
+    def __iter__(self) -> Iterator[BagMessage]:
         return self.read_messages()
 
-    def get_connections(self, topics: Any = None,
-                        connection_filter: Callable[..., Any] | None = None) -> list[ConnectionInfo]:
+    def get_connections(self, topics: Topics = None,
+                        connection_filter: ConnectionFilter | None = None) -> list[ConnectionInfo]:
         """The connections (on ``topics``, passing ``connection_filter``), in bag order."""
         self._check_open()
         return self._select(topics, connection_filter)
 
-    def get_message_count(self, topic_filters: Any = None) -> int:
+    def get_message_count(self, topic_filters: str | list[str] | None = None) -> int:
         """Number of messages, optionally only on the given topic(s)."""
         self._check_open()
         if topic_filters is not None:
@@ -675,7 +757,8 @@ class Bag:
         return BagSummary(self._filename, size, stats.chunks, list(self._connections.values()),
                           self._indexes)
 
-    def get_type_and_topic_info(self, topic_filters: Any = None) -> TypesAndTopicsTuple:
+    def get_type_and_topic_info(self, topic_filters: str | list[str] | None = None,
+                                ) -> TypesAndTopicsTuple:
         """Types with their md5 and, per topic, type, count, connections and frequency."""
         self._check_open()
         summary = BagSummary(self._filename, 0, [], list(self._connections.values()),
@@ -700,7 +783,7 @@ class Bag:
         return CompressionTuple(main, sum(c.uncompressed_size for c in chunks),
                                 sum(c.compressed_size for c in chunks))
 
-    def info(self, freq: bool | None = None, tz: Any = None) -> str:
+    def info(self, freq: bool | None = None, tz: datetime.tzinfo | None = None) -> str:
         """The text ``rosbag info`` prints (``freq`` adds frequencies; ``tz`` a time zone)."""
         self._check_open()
         return info_text(self._summary(), freq=not self._skip_index if freq is None else freq,

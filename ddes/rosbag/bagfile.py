@@ -25,11 +25,12 @@ from __future__ import annotations
 
 import bisect
 import bz2
+import os
 import struct
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from operator import itemgetter
-from typing import IO, Any
+from typing import IO
 
 from ddes.errors import (
     ROSBagEncryptNotSupportedException,
@@ -526,7 +527,7 @@ def _recover(cur: Cursor, pos: int, name: str, why: str) -> Decoded:
     return _finish(connections, log, indexes, FileStats(cur.size, stats), note)
 
 
-def read_file(path: Any) -> bytes:
+def read_file(path: str | os.PathLike[str]) -> bytes:
     """The bytes of the bag file at ``path``, or ROSBagException naming it."""
     try:
         with open(path, "rb") as f:

@@ -25,7 +25,6 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from operator import itemgetter
-from typing import Any
 
 import yaml
 
@@ -51,7 +50,12 @@ _time_key = itemgetter(0)
 
 
 def to_sec(ns: int) -> float:
-    """Float seconds as genpy's ``Time.to_sec`` computes them (secs + nsecs/1e9)."""
+    """Float seconds as genpy's ``Time.to_sec`` computes them (secs + nsecs/1e9).
+
+    Not :func:`ddes.time.units.ns_to_sec` (``ns / 1e9``): the two differ in the last bit for
+    about a quarter of epoch-sized stamps, and ``get_start_time``, the frequencies and the
+    ``rosbag info`` text follow rosbag, which reads genpy Times.
+    """
     secs, nsecs = divmod(ns, _NS)
     return float(secs) + float(nsecs) / 1e9
 
@@ -295,7 +299,7 @@ def _yaml_text(summary: BagSummary, freq: bool) -> str:
     return "".join(x + "\n" for x in lines)
 
 
-def _lookup(data: Any, key: str) -> Any:
+def _lookup(data: object, key: str) -> object:
     """Follow ``a.b[0].c`` through parsed YAML (rosbag evaluates ``obj.<key>``)."""
     value = data
     for part in key.split("."):
@@ -315,7 +319,7 @@ def _lookup(data: Any, key: str) -> Any:
     return value
 
 
-def _print_yaml(value: Any, indent: int = 0) -> str:
+def _print_yaml(value: object, indent: int = 0) -> str:
     pad = "  " * indent
     if isinstance(value, list):
         return "".join(f"{pad}- {_print_yaml(item, indent + 1)}\n" for item in value)

@@ -22,22 +22,27 @@ import heapq
 import io
 from collections.abc import Mapping
 from operator import itemgetter
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING
 
 from ddes.errors import DdesError, ROSBagException, ROSBagFormatException
 from ddes.rosbag.bagfile import Decoded, Entry, FileStats
 from ddes.rosbag.records import ConnectionInfo
+from ddes.time.units import to_ns
+
+if TYPE_CHECKING:
+    from mcap.records import Channel, Schema
+    from mcap.writer import CompressionType
 
 __all__ = ["MCAP_MAGIC", "decode_mcap", "encode_mcap"]
 
 MCAP_MAGIC = b"\x89MCAP0\r\n"
 _time_key = itemgetter(0)
-_TIME_LIMIT = 2**32 * 1_000_000_000
+_TIME_LIMIT = to_ns(2**32)  # ROS 1 times are u32 seconds
 _LATCH_OUT: dict[str, str] = {"1": "true", "0": "false"}
 _LATCH_IN: dict[str, str] = {"true": "1", "false": "0"}
 
 
-def _compression(kind: str) -> Any:
+def _compression(kind: str) -> CompressionType:
     from mcap.writer import CompressionType
 
     table = {"none": CompressionType.NONE, "lz4": CompressionType.LZ4,
@@ -82,7 +87,7 @@ def encode_mcap(connections: Mapping[int, ConnectionInfo], indexes: Mapping[int,
     writer.finish()
 
 
-def _header(channel: Any, schema: Any, definition: str) -> dict[str, str]:
+def _header(channel: Channel, schema: Schema, definition: str) -> dict[str, str]:
     meta: dict[str, str] = {str(k): str(v) for k, v in channel.metadata.items()}
     if "type" in meta and "md5sum" in meta:  # written by ddes: the header itself
         header = {k: (_LATCH_IN.get(v, v) if k == "latching" else v) for k, v in meta.items()}
@@ -112,8 +117,8 @@ def decode_mcap(buf: bytes, name: str) -> Decoded:
 
     if not buf.startswith(MCAP_MAGIC):
         raise ROSBagFormatException(f"{name}: not an MCAP file (it starts with {buf[:8]!r})")
-    schemas: dict[int, Any] = {}
-    chans: dict[int, Any] = {}
+    schemas: dict[int, Schema] = {}
+    chans: dict[int, Channel] = {}
     messages: list[tuple[int, int, bytes]] = []
     try:
         reader = StreamReader(io.BytesIO(buf), validate_crcs=True, record_size_limit=len(buf))

@@ -24,16 +24,22 @@ import math
 import os
 import shutil
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import ROSBagException
 from ddes.rosbag.bag import Bag
 from ddes.time.rostime import Duration, Time
 
-__all__ = ["backup_name", "change_compression", "compile_expression", "filter_bag",
-           "reindex_file"]
+if TYPE_CHECKING:
+    from ddes.msg.message import Message
 
-_SAFE_BUILTINS: dict[str, Any] = {
+__all__ = ["BagExpression", "backup_name", "change_compression", "compile_expression",
+           "filter_bag", "reindex_file"]
+
+#: A compiled ``rosbag filter`` expression: ``(topic, m, t) -> value`` (truth tested or printed).
+BagExpression = Callable[[str, "Message", Time], object]
+
+_SAFE_BUILTINS: dict[str, Callable[..., object]] = {
     name: getattr(builtins, name)
     for name in ("abs", "all", "any", "bool", "dict", "divmod", "enumerate", "float", "frozenset",
                  "int", "isinstance", "len", "list", "max", "min", "range", "repr", "reversed",
@@ -58,7 +64,7 @@ def _check_names(tree: ast.AST, expr: str, what: str) -> None:
             raise ROSBagException(f"{what} {expr!r}: {type(node).__name__} is not allowed")
 
 
-def compile_expression(expr: str, what: str = "filter expression") -> Callable[[str, Any, Any], Any]:
+def compile_expression(expr: str, what: str = "filter expression") -> BagExpression:
     """``lambda topic, m, t: <expr>`` compiled in a restricted namespace."""
     if not isinstance(expr, str) or not expr.strip():
         raise ROSBagException(f"{what} must be a non-empty Python expression, got {expr!r}")
@@ -77,8 +83,8 @@ def compile_expression(expr: str, what: str = "filter expression") -> Callable[[
     return fn  # type: ignore[no-any-return]
 
 
-def _call(fn: Callable[..., Any], expr: str, what: str, index: int, topic: str, msg: Any,
-          t: Time) -> Any:
+def _call(fn: BagExpression, expr: str, what: str, index: int, topic: str, msg: Message,
+          t: Time) -> object:
     try:
         return fn(topic, msg, t)
     except Exception as exc:  # noqa: BLE001 - the user's expression may raise anything
@@ -88,7 +94,7 @@ def _call(fn: Callable[..., Any], expr: str, what: str, index: int, topic: str, 
 
 
 def filter_bag(inbag: Bag, outbag: Bag, expr: str, *, print_expr: str | None = None,
-               out: Callable[[str], Any] | None = None) -> int:
+               out: Callable[[str], None] | None = None) -> int:
     """Copy the messages of ``inbag`` for which ``expr`` is true into ``outbag``; returns how many.
 
     With ``print_expr`` each message prints ``MATCH <value>`` or ``NO MATCH

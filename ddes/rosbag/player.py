@@ -38,49 +38,75 @@ from __future__ import annotations
 
 import heapq
 import math
-from collections.abc import Callable, Iterable, Iterator
+import os
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING, ClassVar, Union
 
 from ddes.errors import DdesValueError, ROSBagException
 from ddes.rosbag.bag import Bag
+from ddes.rosbag.recorder import roscpp_duration_ns
 from ddes.rosbag.records import ConnectionInfo
+from ddes.time.rate import roscpp_period_ns
 from ddes.time.rostime import Time
+from ddes.time.units import ns_to_sec
 
 if TYPE_CHECKING:
     import simpy
+    from simpy.events import ProcessGenerator
 
+    from ddes.graph.topics import Publisher
     from ddes.graph.world import World
 
-__all__ = ["Player", "raw_message_class"]
+__all__ = ["BagSource", "Player", "RawBytes", "raw_message_class"]
 
-_NS = 1_000_000_000
+#: A bag to play: a :class:`~ddes.rosbag.Bag` or the path of a .bag/MCAP file.
+BagSource = Union[Bag, str, "os.PathLike[str]"]
 
 
-def raw_message_class(conn: ConnectionInfo) -> type:
-    """A class publishing a connection's recorded bytes unchanged (roscpp's ShapeShifter)."""
+class RawBytes:
+    """Base of :func:`raw_message_class`: recorded bytes, published unchanged."""
 
-    def serialize_to_bytes(self: Any) -> bytes:
-        return self._buff  # type: ignore[no-any-return]
+    __slots__ = ("_buff",)
 
-    def serialize(self: Any, buff: Any) -> None:
+    _type: ClassVar[str] = ""
+    _md5sum: ClassVar[str] = ""
+    _full_text: ClassVar[str] = ""
+    _has_header: ClassVar[bool] = False
+    _slot_types: ClassVar[list[str]] = []
+
+    def __init__(self, buff: bytes = b"") -> None:
+        self._buff = buff
+
+    def _serialize_to_bytes(self) -> bytes:
+        return self._buff
+
+    def _deserialize_from(self, data: bytes) -> RawBytes:
+        self._buff = bytes(data)
+        return self
+
+    def serialize(self, buff: IO[bytes]) -> None:
         buff.write(self._buff)
 
+
+def raw_message_class(conn: ConnectionInfo) -> type[RawBytes]:
+    """A class publishing a connection's recorded bytes unchanged (roscpp's ShapeShifter)."""
     name = conn.datatype.replace("/", "__") + "__Raw"
-    return type(name, (), {
-        "__slots__": ("_buff",), "_type": conn.datatype, "_md5sum": conn.md5sum,
+    return type(name, (RawBytes,), {
+        "__slots__": (), "_type": conn.datatype, "_md5sum": conn.md5sum,
         "_full_text": conn.msg_def, "_has_header": False, "_slot_types": [],
-        "_serialize_to_bytes": serialize_to_bytes, "serialize": serialize,
         "__doc__": f"Recorded bytes of a {conn.datatype} message.",
     })
 
 
-def _seconds_ns(value: Any, what: str, minimum: float | None = None, strict: bool = False) -> int:
+def _check_seconds(value: float, what: str, minimum: float | None = None,
+                   strict: bool = False) -> float:
+    """``value`` if it is a finite number of seconds (``>``/``>= minimum``), else DdesValueError."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise DdesValueError(f"{what} must be a finite number of seconds, got {value!r}")
     if minimum is not None and (value <= minimum if strict else value < minimum):
         raise DdesValueError(f"{what} must be {'>' if strict else '>='} {minimum}, got {value!r}")
-    return int(round(float(value) * 1e9))
+    return value
 
 
 class Player:
@@ -91,14 +117,16 @@ class Player:
     module docstring); ``out`` receives the lines ``rosbag play`` prints.
     """
 
-    def __init__(self, world: World, bags: Any, *, prefix: str = "", quiet: bool = False,
+    def __init__(self, world: World,
+                 bags: BagSource | Sequence[BagSource], *, prefix: str = "",
+                 quiet: bool = False,
                  immediate: bool = False, pause: bool = False, queue_size: int = 100,
                  clock: bool = False, hz: float = 100.0, delay: float = 0.2, rate: float = 1.0,
                  start: float = 0.0, duration: float | None = None,
                  skip_empty: float | None = None, loop: bool = False, keep_alive: bool = False,
                  topics: Iterable[str] = (), wait_for_subscribers: bool = False,
-                 name: str = "play", out: Callable[[str], Any] | None = None) -> None:
-        items = bags if isinstance(bags, (list, tuple)) else [bags]
+                 name: str = "play", out: Callable[[str], None] | None = None) -> None:
+        items = [bags] if isinstance(bags, (Bag, str, os.PathLike)) else list(bags)
         if not items:
             raise DdesValueError("You must specify at least one bag file to play from")
         self.bags = [b if isinstance(b, Bag) else Bag(b) for b in items]
@@ -108,13 +136,13 @@ class Player:
         if isinstance(hz, bool) or not isinstance(hz, (int, float)) or not math.isfinite(hz) \
                 or hz <= 0:
             raise DdesValueError(f"hz must be a finite frequency > 0, got {hz!r}")
-        self._tick_ns = max(1, int(round(1e9 / hz)))
-        self._delay_ns = _seconds_ns(delay, "delay", 0)
-        start_ns = _seconds_ns(start, "start")
-        dur_ns = None if duration is None else _seconds_ns(duration, "Invalid duration", 0,
-                                                           strict=True)
-        self._skip_ns = None if skip_empty is None else _seconds_ns(skip_empty, "skip_empty", 0,
-                                                                    strict=True)
+        self._tick_ns = max(1, roscpp_period_ns(hz))  # rosbag: WallDuration(1.0 / hz)
+        self._delay_ns = roscpp_duration_ns(_check_seconds(delay, "delay", 0))
+        start_ns = roscpp_duration_ns(_check_seconds(start, "start"))
+        dur_ns = None if duration is None else roscpp_duration_ns(
+            _check_seconds(duration, "Invalid duration", 0, strict=True))
+        self._skip_ns = None if skip_empty is None else roscpp_duration_ns(
+            _check_seconds(skip_empty, "skip_empty", 0, strict=True))
         self.world = world
         self.prefix = prefix
         self.immediate, self.loop, self.keep_alive = immediate, loop, keep_alive
@@ -150,8 +178,9 @@ class Player:
 
         self._Clock = get_message_class("rosgraph_msgs/Clock")
         self._clock_pub = self.node.advertise("clock", self._Clock, queue_size=1)
-        self._raw: dict[tuple[str, str, str], type] = {}
-        self._pubs: dict[str, Any] = {}
+        self._raw: dict[tuple[str, str, str], type[RawBytes]] = {}
+        self._pubs: dict[str, Publisher] = {}
+        self._pub_classes: dict[str, type[RawBytes]] = {}
         for i, cid in used:
             self._advertise(self.bags[i]._connections[cid])
         self._paused = bool(pause)
@@ -196,6 +225,7 @@ class Player:
         cls = self._raw.get(raw_key)
         if cls is None:
             cls = self._raw[raw_key] = raw_message_class(conn)
+        self._pub_classes[key] = cls
         self._pubs[key] = self.node.advertise(self.prefix + conn.topic, cls,
                                               queue_size=self.queue_size, latch=conn.latching)
 
@@ -290,16 +320,14 @@ class Player:
         self._rebase(self.world.now, t)
         if self._last_clock_value != t or self._last_clock_k != self.world.now:
             self._publish_clock(t)
-        self._send(self._pubs[self._key(i, cid)], data)
+        self._send(self._key(i, cid), data)
 
-    def _send(self, pub: Any, data: bytes) -> None:
-        msg = pub.data_class.__new__(pub.data_class)
-        msg._buff = data
-        pub.publish(msg)
+    def _send(self, key: str, data: bytes) -> None:
+        self._pubs[key].publish(self._pub_classes[key](data))
         self.published += 1
         self._last_send_k = self.world.now
 
-    def _wait(self, until_k: int | None) -> Any:
+    def _wait(self, until_k: int | None) -> simpy.Event:
         env = self.world.env
         wake = self._wake
         if until_k is None:
@@ -307,7 +335,7 @@ class Player:
         return env.any_of([env.timeout(max(0, until_k - env.now)), wake])
 
     # -- the process ------------------------------------------------------------------------------
-    def _run(self) -> Any:
+    def _run(self) -> ProcessGenerator:
         import simpy
 
         try:
@@ -327,7 +355,7 @@ class Player:
             self._out("Done.")
             self.stop("done")
 
-    def _drain(self) -> Any:
+    def _drain(self) -> ProcessGenerator:
         """Wait until the messages already sent have arrived, then let the node go."""
         env = self.world.env
         horizon = env.now
@@ -336,10 +364,11 @@ class Player:
                 horizon = max(horizon, conn._last, self._last_send_k + conn._fixed)
         yield env.timeout(horizon - env.now)
 
-    def _play(self) -> Any:
+    def _play(self) -> ProcessGenerator:
         env = self.world.env
         yield env.timeout(self._delay_ns)
-        self._out(f"Waiting {self._delay_ns / 1e9:g} seconds after advertising topics... done.")
+        self._out(f"Waiting {ns_to_sec(self._delay_ns):g} seconds after advertising topics... "
+                  "done.")
         self._out("")
         self._out("Hit space to toggle paused, or 's' to step.")
         if self._initial > self._full_begin:
@@ -347,7 +376,7 @@ class Player:
         if self.wait_for_subscribers:
             while not self._stopped and any(p.get_num_connections() == 0
                                             for p in self._pubs.values()):
-                yield env.timeout(100_000_000)
+                yield self.world.timeout(0.1)
         self.world.record("rosbag.play", self.node.name, bags=len(self.bags),
                           rate=float(self._rate), clock=self.publish_clock)
         while not self._stopped:
@@ -386,9 +415,9 @@ class Player:
             self._advertise(conn)
             last[(conn.callerid, conn.topic)] = entry
         for (callerid, topic) in sorted(last):
-            self._send(self._pubs[callerid + topic], last[(callerid, topic)][3])
+            self._send(callerid + topic, last[(callerid, topic)][3])
 
-    def _do_publish(self, t: int, i: int, cid: int, data: bytes) -> Any:
+    def _do_publish(self, t: int, i: int, cid: int, data: bytes) -> ProcessGenerator:
         if self.immediate:
             self._emit(t, i, cid, data)
             return
@@ -421,7 +450,7 @@ class Player:
                 continue
             yield self._wait(due)
 
-    def _keep_alive(self) -> Any:
+    def _keep_alive(self) -> ProcessGenerator:
         env = self.world.env
         while not self._stopped:
             if not self.publish_clock:

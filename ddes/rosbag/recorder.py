@@ -43,29 +43,41 @@ import datetime
 import re
 import time
 from collections.abc import Iterable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import DdesTypeError, DdesValueError, ROSBagException
 from ddes.rosbag.bag import Bag
 from ddes.rosbag.bagfile import active_placeholder
+from ddes.time.rostime import Time
+from ddes.time.units import DurationLike, HasNsec, ns_to_sec, to_ns
 
 if TYPE_CHECKING:
     import simpy
+    from simpy.events import ProcessGenerator
 
-    from ddes.graph.topics import AnyMsg
+    from ddes.graph.topics import AnyMsg, Subscriber
     from ddes.graph.world import World
 
-__all__ = ["Recorder", "bag_filename", "parse_duration"]
-
-_NS = 1_000_000_000
+__all__ = ["Recorder", "bag_filename", "parse_duration", "roscpp_duration_ns"]
 
 
-def parse_duration(value: Any) -> int:
+def roscpp_duration_ns(seconds: float) -> int:
+    """Seconds as ns the way rosbag (C++) takes them: ``ros::Duration(double)`` rounds to the
+    nearest nanosecond.
+
+    Not :func:`ddes.time.units.to_ns`, which truncates as genpy does: 1.2 s would be
+    1199999999 ns, and a 10 Hz message at exactly ``--duration 1.2`` would be cut.  units.py has
+    no rounding converter, so this one-liner stays (used by :class:`Recorder` and the Player).
+    """
+    return int(round(float(seconds) * 1e9))
+
+
+def parse_duration(value: DurationLike | str) -> int:
     """``--duration``: seconds, a Duration, or text ``"30"``, ``"30s"``, ``"5m"``, ``"1h"``; ns > 0."""
-    if hasattr(value, "to_nsec"):
-        ns = int(value.to_nsec())
+    if isinstance(value, HasNsec):
+        ns = to_ns(value, "duration")
     elif isinstance(value, (int, float)) and not isinstance(value, bool):
-        ns = int(round(float(value) * 1e9))
+        ns = roscpp_duration_ns(value)
     elif isinstance(value, str):
         m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*", value)
         if m is None:
@@ -74,7 +86,7 @@ def parse_duration(value: Any) -> int:
         scale = {"": 1.0, "s": 1.0, "m": 60.0, "h": 3600.0}.get(unit)
         if scale is None:
             raise DdesValueError(f"Duration unit must be s, m, or h (got {unit!r} in {value!r})")
-        ns = int(round(float(m.group(1)) * scale * 1e9))
+        ns = roscpp_duration_ns(float(m.group(1)) * scale)
     else:
         raise DdesTypeError(f"duration must be seconds, a Duration or text like '5m', got {value!r}")
     if ns <= 0:
@@ -98,7 +110,7 @@ def bag_filename(output_prefix: str | None = None, output_name: str | None = Non
         prefix = prefix[:-4]
     parts = [prefix] if prefix else []
     if append_date:
-        secs = stamp_ns // _NS
+        secs = Time.from_nsec(stamp_ns).secs
         if tz is None:
             parts.append(time.strftime("%Y-%m-%d-%H-%M-%S", time.localtime(secs)))
         else:
@@ -123,7 +135,8 @@ class Recorder:
 
     def __init__(self, world: World, topics: Iterable[str] = (), *, all: bool = False,
                  regex: bool = False, exclude: str | None = None, limit: int = 0,
-                 duration: Any = None, node: str | None = None, output_name: str | None = None,
+                 duration: DurationLike | str | None = None, node: str | None = None,
+                 output_name: str | None = None,
                  output_prefix: str | None = None, compression: str = "none",
                  chunksize: int = 768, publish: bool = False, quiet: bool = False,
                  in_memory: bool = False, name: str = "record",
@@ -157,7 +170,7 @@ class Recorder:
         self.path: str | None = None if in_memory else bag_filename(
             output_prefix, output_name, world.now, tz)
         self._recording: set[str] = set()
-        self._subs: dict[str, Any] = {}
+        self._subs: dict[str, Subscriber] = {}
         self._counts: dict[str, int] = {}
         self._active = 0
         self._start_ns: int | None = None
@@ -187,7 +200,7 @@ class Recorder:
         self.process = self.node.process(self._run())
 
     # -- lifecycle -------------------------------------------------------------------------
-    def _run(self) -> Any:
+    def _run(self) -> ProcessGenerator:
         import simpy
 
         node = self.node
@@ -237,7 +250,7 @@ class Recorder:
     @property
     def start_time(self) -> float | None:
         """ROS time (float seconds) the recording started, or None before a valid time."""
-        return None if self._start_ns is None else self._start_ns / 1e9
+        return None if self._start_ns is None else ns_to_sec(self._start_ns)
 
     @property
     def recording(self) -> list[str]:

@@ -35,6 +35,7 @@ from ddes.services.network import (
     DEFAULT_SERVICE_LATENCY,
     ServiceNetwork,
     ServiceStats,
+    ServiceStatsDict,
     network_of,
 )
 from ddes.services.server import Service
@@ -48,6 +49,7 @@ __all__ = [
     "ServiceNetwork",
     "ServiceProxy",
     "ServiceStats",
+    "ServiceStatsDict",
     "ServiceTimeout",
     "convert_return_to_response",
     "network_of",

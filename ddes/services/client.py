@@ -33,27 +33,36 @@ proxy-level default then.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from enum import Enum
+from typing import TYPE_CHECKING, Final, cast
 
 from ddes.errors import ROSInterruptException, ServiceException, ServiceTimeout
-from ddes.kernel.events import post
+from ddes.kernel.events import Posted, post
 from ddes.services.convert import args_kwds_to_request, check_service_class
-from ddes.services.server import check_service_name
 from ddes.services.network import network_of
+from ddes.services.server import check_service_name
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
-from ddes.services.waiting import timeout_ns, wait_for_service, wait_for_service_ns
-from ddes.time.units import duration_to_ns
+from ddes.services.waiting import check_nonzero_timeout, wait_for_service, wait_for_service_ns
+from ddes.time.units import DurationLike, duration_to_ns, ns_to_sec
 
 if TYPE_CHECKING:
     import simpy
 
     from ddes.graph.node import Node
-    from ddes.msg.message import Message
+    from ddes.msg.message import Message, ServiceDefinition
     from ddes.services.network import ServiceStats
+    from ddes.services.server import Service
 
 __all__ = ["ServiceClient", "ServiceProxy"]
 
-_UNSET: Any = object()
+
+class _Unset(Enum):
+    """No ``timeout=`` given: the proxy's default applies."""
+
+    UNSET = 0
+
+
+_UNSET: Final = _Unset.UNSET
 _DISCARD_KEYS = ("service", "call", "client", "reason")
 _TRANSPORT_ERROR = ("transport error completing service call: unable to receive data from sender, "
                     "check sender's logs for details")
@@ -67,8 +76,9 @@ class ServiceProxy:
     default call timeout (seconds or Duration of ROS time; a ddes extension).
     """
 
-    def __init__(self, node: Node, name: str, service_class: Any, persistent: bool = False,
-                 headers: dict[str, str] | None = None, *, timeout: Any = None) -> None:
+    def __init__(self, node: Node, name: str, service_class: type[ServiceDefinition],
+                 persistent: bool = False, headers: dict[str, str] | None = None, *,
+                 timeout: DurationLike | None = None) -> None:
         node.check_alive("create a service proxy")
         check_service_name(name, "ServiceProxy")
         check_service_class(service_class, f"ServiceProxy {name!r}")
@@ -82,7 +92,9 @@ class ServiceProxy:
         self.headers = dict(headers or {})
         if self.persistent:
             self.headers["persistent"] = "1"
-        self.timeout_ns = timeout_ns(timeout, "timeout")
+        #: The default call timeout (int ns), None for none.
+        self.timeout_ns = check_nonzero_timeout(
+            None if timeout is None else duration_to_ns(timeout, "timeout"))
         self.seq = 0
         self._transport: ServiceConnection | None = None
         #: Why every call of this persistent proxy now fails (closed, or its server went away).
@@ -93,19 +105,28 @@ class ServiceProxy:
         node.add_entity(self)
 
     # -- calling --------------------------------------------------------------------------
-    def call(self, *args: Any, timeout: Any = _UNSET, **kwds: Any) -> simpy.Event:
+    def call(self, *args: object, timeout: DurationLike | None | _Unset = _UNSET,
+             **kwds: object) -> simpy.Event:
         """Call the service; ``yield`` the event for the response (see module docstring)."""
         if timeout is not _UNSET and self._field_timeout:
             kwds["timeout"] = timeout
             timeout = _UNSET
-        ns = self.timeout_ns if timeout is _UNSET else timeout_ns(timeout, "timeout")
-        return self._start(args, kwds, ns).event
+        return self._start(args, kwds, self._call_timeout_ns(timeout)).event
 
     __call__ = call
 
-    def _start(self, args: tuple[Any, ...], kwds: dict[str, Any], ns: int | None) -> PendingCall:
+    def _call_timeout_ns(self, timeout: DurationLike | None | _Unset) -> int | None:
+        """The timeout of one call: the proxy's default unless ``timeout=`` was given."""
+        if timeout is _UNSET:
+            return self.timeout_ns
+        return check_nonzero_timeout(None if timeout is None
+                                     else duration_to_ns(timeout, "timeout"))
+
+    def _start(self, args: tuple[object, ...], kwds: dict[str, object],
+               timeout_ns: int | None) -> PendingCall:
         node = self.node
         node.check_alive("call a service")
+        request: Message
         if len(args) == 1 and not kwds and type(args[0]) is self.request_class:
             request = args[0]
         else:
@@ -121,8 +142,8 @@ class ServiceProxy:
         call = PendingCall(self, data, world.env.event(), stats)
         call.trace_call(request)
         self._pending[call.id] = call
-        if ns is not None:
-            self._arm_timeout(call, ns)
+        if timeout_ns is not None:
+            self._arm_timeout(call, timeout_ns)
         conn = self._transport
         if conn is not None and conn.server_gone:
             self._transport = conn = None
@@ -136,7 +157,7 @@ class ServiceProxy:
             if not conn.ready:
                 conn.waiting.append(call)  # the request leaves once the header exchange is done
             else:
-                self._send_request(conn, call, world.env.now)  # type: ignore[arg-type]
+                self._send_request(conn, call, world.env.now)
             return call
         entry = world.master.lookup_service(name)
         if entry is None:
@@ -147,19 +168,19 @@ class ServiceProxy:
         conn.waiting.append(call)
         if self.persistent:
             self._transport = conn
-        post(world.env, conn.link.sample(), (conn, entry.server), self._on_header)
+        post(world.env, conn.link.sample_ns(), (conn, entry.server), self._on_header)
         return call
 
-    def _arm_timeout(self, call: PendingCall, ns: int) -> None:
+    def _arm_timeout(self, call: PendingCall, timeout_ns: int) -> None:
         clock = self.node.clock
-        ev = clock.wait_until(clock.now_ns() + ns)
-        ev.callbacks.append(lambda _ev: self._expire(call, ns))
+        ev = clock.wait_until(clock.now_ns() + timeout_ns)
+        ev.callbacks.append(lambda _ev: self._expire(call, timeout_ns))
 
     # -- hops (see ddes.services.transport) ---------------------------------------------------
     def _calls_on(self, conn: ServiceConnection) -> list[PendingCall]:
         return [c for c in self._pending.values() if c.conn is conn and not c.done]
 
-    def _on_header(self, ev: Any) -> None:
+    def _on_header(self, ev: Posted[tuple[ServiceConnection, Service]]) -> None:
         """The connection header reached the server: accepted or refused."""
         conn, server = ev.value
         if conn.closed:
@@ -167,7 +188,7 @@ class ServiceProxy:
         waiting = [call for call in conn.waiting if not call.done]
         conn.waiting = []
         error = server._accept(conn)
-        back = conn.link.sample()
+        back = conn.link.sample_ns()
         now: int = self.world.env.now
         if error is not None:
             conn.closed = True
@@ -179,7 +200,7 @@ class ServiceProxy:
         for call in waiting:
             self._send_request(conn, call, now + back)
 
-    def _on_refused(self, ev: Any) -> None:
+    def _on_refused(self, ev: Posted[tuple[list[PendingCall], str]]) -> None:
         waiting, error = ev.value
         for call in waiting:
             if not call.done:
@@ -189,28 +210,29 @@ class ServiceProxy:
         """The request leaves the client at ``sent_at`` (FIFO per connection)."""
         call.sent_at = sent_at
         now: int = self.world.env.now
-        at = sent_at + conn.link.sample()
+        at = sent_at + conn.link.sample_ns()
         if at < conn.last_request:
             at = conn.last_request
         conn.last_request = at
         post(self.world.env, at - now, (conn, call), self._on_request)
 
-    def _on_request(self, ev: Any) -> None:
+    def _on_request(self, ev: Posted[tuple[ServiceConnection, PendingCall]]) -> None:
         conn, call = ev.value
         if 0 <= call.gave_up_at < call.sent_at:
             return  # the client gave up before the request was sent
         conn.server._on_request(conn, call)
 
-    def _send_response(self, conn: ServiceConnection, call: PendingCall, ok: bool, payload: Any) -> None:
-        """Called by the server: the response (or error text) travels back."""
+    def _send_response(self, conn: ServiceConnection, call: PendingCall, ok: bool,
+                       payload: bytes | str) -> None:
+        """Called by the server: the response (bytes, ``ok``) or the error text travels back."""
         now: int = self.world.env.now
-        at = now + conn.link.sample()
+        at = now + conn.link.sample_ns()
         if at < conn.last_response:
             at = conn.last_response
         conn.last_response = at
         post(self.world.env, at - now, (call, ok, payload), self._on_response)
 
-    def _on_response(self, ev: Any) -> None:
+    def _on_response(self, ev: Posted[tuple[PendingCall, bool, bytes | str]]) -> None:
         call, ok, payload = ev.value
         if call.done:
             call.stats.discarded += 1
@@ -220,30 +242,31 @@ class ServiceProxy:
                                      "client gave up"))
             return
         if ok:
-            call.succeed(payload)
+            call.succeed(cast(bytes, payload))
         else:
-            call.server_text = payload
+            text = call.server_text = cast(str, payload)
             call.fail("server", ServiceException(
-                f"service [{self.resolved_name}] responded with an error: {payload}"))
+                f"service [{self.resolved_name}] responded with an error: {text}"))
 
     def _transport_error(self, call: PendingCall) -> None:
         """The server went away during ``call``: the client learns it one latency later."""
         conn = call.conn
         assert conn is not None
-        post(self.world.env, conn.link.sample(), call, self._on_transport_error)
+        post(self.world.env, conn.link.sample_ns(), call, self._on_transport_error)
 
-    def _on_transport_error(self, ev: Any) -> None:
+    def _on_transport_error(self, ev: Posted[PendingCall]) -> None:
         call = ev.value
         if not call.done:
             call.fail("transport", ServiceException(_TRANSPORT_ERROR))
 
-    def _expire(self, call: PendingCall, ns: int) -> None:
+    def _expire(self, call: PendingCall, timeout_ns: int) -> None:
         if call.done:
             return
         call.gave_up_at = self.world.env.now
         conn = call.conn
         call.fail("timeout", ServiceTimeout(
-            f"service [{self.resolved_name}] call timed out after {ns / 1e9:g} s of ROS time "
+            f"service [{self.resolved_name}] call timed out after {ns_to_sec(timeout_ns):g} s of "
+            "ROS time "
             "(a ddes extension: ROS 1 calls have no timeout); the server was not told and "
             "its late response will be discarded"))
         if conn is not None and not conn.closed:
@@ -255,7 +278,7 @@ class ServiceProxy:
                 other.fail("transport", ServiceException(_TRANSPORT_ERROR))
 
     # -- waiting, closing --------------------------------------------------------------------
-    def wait_for_service(self, timeout: Any = None) -> simpy.Event:
+    def wait_for_service(self, timeout: DurationLike | None = None) -> simpy.Event:
         """:func:`~ddes.services.waiting.wait_for_service` for this proxy's service."""
         return wait_for_service(self.node, self.resolved_name, timeout)
 
@@ -308,8 +331,8 @@ class ServiceClient:
     the call is False and nothing is logged.
     """
 
-    def __init__(self, node: Node, name: str, service_class: Any, persistent: bool = False,
-                 *, timeout: Any = None) -> None:
+    def __init__(self, node: Node, name: str, service_class: type[ServiceDefinition],
+                 persistent: bool = False, *, timeout: DurationLike | None = None) -> None:
         self._proxy = ServiceProxy(node, name, service_class, persistent, timeout=timeout)
         self.node = node
 
@@ -334,14 +357,14 @@ class ServiceClient:
         """Is the service registered now (``exists()``)."""
         return self.node.world.master.lookup_service(self._proxy.resolved_name) is not None
 
-    def call(self, request: Message, response: Message, *, timeout: Any = _UNSET) -> simpy.Event:
+    def call(self, request: Message, response: Message, *,
+             timeout: DurationLike | None | _Unset = _UNSET) -> simpy.Event:
         """Call; the event's value is True (``response`` filled) or False."""
         proxy = self._proxy
-        ns = proxy.timeout_ns if timeout is _UNSET else timeout_ns(timeout, "timeout")
-        pending = proxy._start((request,), {}, ns)
+        pending = proxy._start((request,), {}, proxy._call_timeout_ns(timeout))
         result = self.node.world.env.event()
 
-        def done(ev: Any) -> None:
+        def done(ev: simpy.Event) -> None:
             if ev.ok:
                 for slot in response.__slots__:
                     setattr(response, slot, getattr(ev.value, slot))
@@ -356,7 +379,7 @@ class ServiceClient:
         pending.event.callbacks.append(done)
         return result
 
-    def wait_for_existence(self, timeout: Any = None) -> simpy.Event:
+    def wait_for_existence(self, timeout: DurationLike | None = None) -> simpy.Event:
         """roscpp ``waitForExistence``: event with value True, or False after ``timeout``.
 
         ``timeout`` (seconds or Duration of ROS time) None or negative waits
@@ -370,13 +393,14 @@ class ServiceClient:
             result.succeed(True)
             return result
         node.loginfo("waitForService: Service [%s] has not been advertised, waiting...", name)
-        ns = None if timeout is None else duration_to_ns(timeout, "timeout")
-        if ns == 0:
+        timeout_ns = None if timeout is None else duration_to_ns(timeout, "timeout")
+        if timeout_ns == 0:
             result.succeed(False)
             return result
-        wait = wait_for_service_ns(node, name, ns if ns is not None and ns > 0 else None)
+        wait = wait_for_service_ns(node, name, timeout_ns if timeout_ns is not None
+                                   and timeout_ns > 0 else None)
 
-        def done(ev: Any) -> None:
+        def done(ev: simpy.Event) -> None:
             if ev.ok:
                 node.loginfo("waitForService: Service [%s] is now available.", name)
             else:

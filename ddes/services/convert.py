@@ -9,7 +9,7 @@ autograder can compare the strings a client sees with real ROS.
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping
 
 from ddes.errors import DdesError, DdesTypeError, ServiceException
 from ddes.msg.message import Message
@@ -33,7 +33,7 @@ ERROR_PROCESSING = "error processing request: "
 ROSCPP_EXCEPTION_LOG = "Exception thrown while processing service call: %s"
 
 
-def check_service_class(service_class: Any, what: str) -> None:
+def check_service_class(service_class: object, what: str) -> None:
     """Raise DdesTypeError unless ``service_class`` is a generated service class."""
     if not isinstance(service_class, type) or not all(
         hasattr(service_class, a) for a in ("_type", "_md5sum", "_request_class", "_response_class")
@@ -44,7 +44,7 @@ def check_service_class(service_class: Any, what: str) -> None:
         )
 
 
-def convert_return_to_response(response: Any, response_class: type[Message]) -> Message:
+def convert_return_to_response(response: object, response_class: type[Message]) -> Message:
     """A handler's return value as a response message, by rospy's rules, in order.
 
     1. a message whose ``_type`` is the response type is used as it is;
@@ -62,21 +62,20 @@ def convert_return_to_response(response: Any, response_class: type[Message]) -> 
     """
     if isinstance(response, Message) and response._type == response_class._type:
         return response
-    kind = type(response)
-    if kind is dict:
+    if type(response) is dict:
         try:
             return response_class(**response)
         except AttributeError as exc:
             raise ServiceException(f"handler returned invalid value: {exc}") from None
     if response == None:  # noqa: E711 - rospy compares with ==, not is
         raise ServiceException("service handler returned None")
-    if kind is not list and kind is not tuple:
+    if type(response) is not list and type(response) is not tuple:
         try:
             return response_class(response)
         except TypeError as exc:
             raise ServiceException(f"handler returned invalid value: {exc}") from None
     try:
-        return response_class(*response)
+        return response_class(*response)  # a list or a tuple here
     except TypeError as exc:
         raise ServiceException(f"handler returned wrong number of values: {exc}") from None
 
@@ -95,7 +94,7 @@ def server_error_text(exc: BaseException, style: str) -> str:
     return ERROR_PROCESSING + str(exc)
 
 
-def roscpp_result(value: Any) -> bool:
+def roscpp_result(value: object) -> bool:
     """A roscpp callback's return value as the ok flag; only a bool is accepted.
 
     C++ forces ``bool``; in Python a callback that forgets ``return True``
@@ -109,8 +108,8 @@ def roscpp_result(value: Any) -> bool:
     )
 
 
-def args_kwds_to_request(request_class: type[Message], args: tuple[Any, ...],
-                         kwds: dict[str, Any]) -> Message:
+def args_kwds_to_request(request_class: type[Message], args: tuple[object, ...],
+                         kwds: Mapping[str, object]) -> Message:
     """The request of ``proxy(*args, **kwds)``, by rospy's rules and texts.
 
     A request instance (same md5sum and type), positional field values, or
@@ -122,6 +121,7 @@ def args_kwds_to_request(request_class: type[Message], args: tuple[Any, ...],
     """
     if args and kwds:
         raise DdesTypeError("publish() can be called with arguments or keywords, but not both.")
+    request: object
     if kwds:
         request = request_class(**kwds)
     elif len(args) == 1 and getattr(args[0], "_md5sum", None) == request_class._md5sum:

@@ -17,13 +17,15 @@ and holds everything services share: no module-level state.
 
 from __future__ import annotations
 
+import functools
 import random
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypedDict
 
-from ddes.errors import DdesTypeError, ROSServiceException
-from ddes.graph.topics import LinkModel, link_latency_ns
+from ddes.errors import DdesTypeError, DdesValueError, ROSServiceException
+from ddes.graph.topics import LinkLatency, LinkModel, link_latency_ns
+from ddes.time.units import DurationLike
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -35,6 +37,7 @@ __all__ = [
     "ServiceLink",
     "ServiceNetwork",
     "ServiceStats",
+    "ServiceStatsDict",
     "network_of",
 ]
 
@@ -48,22 +51,48 @@ ERROR_KINDS = ("unavailable", "connect", "server", "transport", "closed", "timeo
 
 
 class ServiceLink:
-    """The latency of one (service, client) pair; ``sample()`` gives the next one in ns."""
+    """The latency of one (service, client) pair; ``sample_ns()`` gives the next one.
 
-    __slots__ = ("_fixed", "_draw", "_rng")
+    A drawn latency (``f(rng)``) needs ``rng``, the pair's own seeded stream.
+    """
 
-    def __init__(self, latency: Any, rng: random.Random | None) -> None:
+    __slots__ = ("_fixed_ns", "_draw")
+
+    def __init__(self, latency: LinkLatency, rng: random.Random | None) -> None:
+        self._draw: Callable[[], DurationLike] | None = None
+        self._fixed_ns = 0
         if callable(latency):
-            self._fixed, self._draw = 0, latency
+            if rng is None:
+                raise DdesValueError("a drawn latency f(rng) needs the link's random stream")
+            self._draw = functools.partial(latency, rng)
         else:
-            self._fixed, self._draw = link_latency_ns(latency), None
-        self._rng = rng
+            self._fixed_ns = link_latency_ns(latency)
 
-    def sample(self) -> int:
+    def sample_ns(self) -> int:
         """Latency of the next one-way message (integer ns)."""
         if self._draw is None:
-            return self._fixed
-        return link_latency_ns(self._draw(self._rng))
+            return self._fixed_ns
+        return link_latency_ns(self._draw())
+
+
+class ServiceStatsDict(TypedDict):
+    """What :meth:`ServiceNetwork.stats` (``world.service_stats``) returns.
+
+    The round-trip latencies of the successful calls are in nanoseconds
+    (None before the first success).
+    """
+
+    service: str
+    calls: int
+    succeeded: int
+    failed: int
+    in_flight: int
+    errors: dict[str, int]
+    served: int
+    discarded: int
+    latency_min_ns: int | None
+    latency_max_ns: int | None
+    latency_mean_ns: float | None
 
 
 @dataclass
@@ -76,19 +105,20 @@ class ServiceStats:
     served: int = 0
     discarded: int = 0
     errors: dict[str, int] = field(default_factory=lambda: dict.fromkeys(ERROR_KINDS, 0))
-    latency_min: int | None = None
-    latency_max: int | None = None
-    latency_total: int = 0
+    latency_min_ns: int | None = None
+    latency_max_ns: int | None = None
+    latency_total_ns: int = 0
 
-    def add_latency(self, ns: int) -> None:
+    def add_latency(self, latency_ns: int) -> None:
+        """A call succeeded after ``latency_ns`` (round trip)."""
         self.succeeded += 1
-        self.latency_total += ns
-        if self.latency_min is None or ns < self.latency_min:
-            self.latency_min = ns
-        if self.latency_max is None or ns > self.latency_max:
-            self.latency_max = ns
+        self.latency_total_ns += latency_ns
+        if self.latency_min_ns is None or latency_ns < self.latency_min_ns:
+            self.latency_min_ns = latency_ns
+        if self.latency_max_ns is None or latency_ns > self.latency_max_ns:
+            self.latency_max_ns = latency_ns
 
-    def as_dict(self) -> dict[str, Any]:
+    def as_dict(self) -> ServiceStatsDict:
         failed = sum(self.errors.values())
         return {
             "service": self.name,
@@ -99,9 +129,10 @@ class ServiceStats:
             "errors": dict(self.errors),
             "served": self.served,
             "discarded": self.discarded,
-            "latency_min": self.latency_min,
-            "latency_max": self.latency_max,
-            "latency_mean": self.latency_total / self.succeeded if self.succeeded else None,
+            "latency_min_ns": self.latency_min_ns,
+            "latency_max_ns": self.latency_max_ns,
+            "latency_mean_ns": (self.latency_total_ns / self.succeeded if self.succeeded
+                                else None),
         }
 
 
@@ -115,15 +146,15 @@ class ServiceNetwork:
 
     def __init__(self, world: World) -> None:
         self.world = world
-        self._rules: list[tuple[tuple[str | None, str | None], Any]] = []
+        self._rules: list[tuple[tuple[str | None, str | None], LinkLatency]] = []
         self._links: dict[tuple[str, str], ServiceLink] = {}
         self._stats: dict[str, ServiceStats] = {}
-        self._waiters: dict[str, list[Callable[[], Any]]] = {}
+        self._waiters: dict[str, list[Callable[[], object]]] = {}
         self._uris: dict[str, tuple[Node, str]] = {}
 
     # -- links ------------------------------------------------------------------------------
     def set_link(self, service: str | None = None, *, client: str | None = None,
-                 latency: Any = DEFAULT_SERVICE_LATENCY) -> None:
+                 latency: LinkLatency = DEFAULT_SERVICE_LATENCY) -> None:
         """Set the one-way latency of calls to ``service`` from node ``client``.
 
         None matches any service / any client.  Applies to messages sent from
@@ -142,7 +173,7 @@ class ServiceNetwork:
         key = (service, client)
         link = self._links.get(key)
         if link is None:
-            latency: Any = DEFAULT_SERVICE_LATENCY
+            latency: LinkLatency = DEFAULT_SERVICE_LATENCY
             best = -1
             for (srv, cli), lat in self._rules:
                 if (srv is not None and srv != service) or (cli is not None and cli != client):
@@ -163,9 +194,10 @@ class ServiceNetwork:
             st = self._stats[service] = ServiceStats(service)
         return st
 
-    def stats(self, service: str) -> dict[str, Any]:
+    def stats(self, service: str) -> dict[str, object]:
         """Counters of ``service``: calls, succeeded, failed (by reason), served, discarded,
-        in flight, and the round-trip latency of successful calls (min/max/mean, ns)."""
+        in flight, and the round-trip latency of successful calls (min/max/mean, ns): a
+        :class:`ServiceStatsDict` (typed as a plain dict, as ``ddes.World.service_stats``)."""
         st = self._stats.get(service)
         if st is None:
             raise ROSServiceException(
@@ -173,18 +205,18 @@ class ServiceNetwork:
                 f"(known: {', '.join(self._stats) or 'none'}); use the resolved name, e.g. "
                 "'/add_two_ints'"
             )
-        return st.as_dict()
+        return dict(st.as_dict())
 
     def service_names(self) -> list[str]:
         """Every service name advertised or called so far, in first-seen order."""
         return list(self._stats)
 
     # -- waiting for a registration ---------------------------------------------------------
-    def add_waiter(self, service: str, fn: Callable[[], Any]) -> None:
+    def add_waiter(self, service: str, fn: Callable[[], object]) -> None:
         """Call ``fn()`` once, when ``service`` is next registered."""
         self._waiters.setdefault(service, []).append(fn)
 
-    def remove_waiter(self, service: str, fn: Callable[[], Any]) -> None:
+    def remove_waiter(self, service: str, fn: Callable[[], object]) -> None:
         waiters = self._waiters.get(service)
         if waiters and fn in waiters:
             waiters.remove(fn)

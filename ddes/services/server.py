@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Callable, Generator
-from types import GeneratorType
+from types import GeneratorType, TracebackType
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesTypeError, DdesValueError, ServiceException
@@ -51,9 +51,19 @@ if TYPE_CHECKING:
     import simpy
 
     from ddes.graph.node import Node
-    from ddes.msg.message import Message
+    from ddes.msg.message import Message, ServiceDefinition
 
-__all__ = ["Service"]
+__all__ = ["ErrorHandler", "Handler", "Service"]
+
+#: A handler: ``handler(request)`` (rospy style) returns the response in any form
+#: :func:`~ddes.services.convert.convert_return_to_response` takes;
+#: ``handler(request, response) -> bool`` (roscpp style).  Either may be a generator.
+Handler = Callable[..., object]
+#: rospy's ``error_handler(e, exc_type, exc_value, tb)``.
+ErrorHandler = Callable[[BaseException, type[BaseException], BaseException, TracebackType | None],
+                        object]
+#: The rest of a generator handler, run by the node's callback queue.
+_Serving = Generator["simpy.Event", Any, None]
 
 _REQUEST_KEYS = ("service", "call", "client")
 _DISCARD_KEYS = ("service", "call", "client", "reason")
@@ -61,7 +71,7 @@ _EXCEPTION_KEYS = ("service", "call", "error")
 _STYLES = ("rospy", "roscpp")
 
 
-def check_service_name(name: Any, what: str) -> str:
+def check_service_name(name: object, what: str) -> str:
     """rospy's non-empty-string check, then ROS name legality (ROSNameException)."""
     if not isinstance(name, str) or not name:
         raise DdesValueError(f"{what}: service name is not a non-empty string, got {name!r}")
@@ -79,10 +89,10 @@ class Service:
         self,
         node: Node,
         name: str,
-        service_class: Any,
-        handler: Callable[..., Any],
+        service_class: type[ServiceDefinition],
+        handler: Handler,
         buff_size: int = 65536,
-        error_handler: Callable[..., Any] | None = None,
+        error_handler: ErrorHandler | None = None,
         *,
         style: str = "rospy",
     ) -> None:
@@ -178,7 +188,8 @@ class Service:
         request = cls.__new__(cls)._deserialize_from(call.data)
         self.node.callbacks.invoke(self._serve, (conn, call, request), conn)
 
-    def _serve(self, conn: ServiceConnection, call: PendingCall, request: Message) -> Any:
+    def _serve(self, conn: ServiceConnection, call: PendingCall,
+               request: Message) -> _Serving | None:
         self._stats.served += 1
         response = None
         try:
@@ -196,8 +207,8 @@ class Service:
         return None
 
     def _serve_generator(self, conn: ServiceConnection, call: PendingCall,
-                         gen: Generator[Any, Any, Any], response: Message | None
-                         ) -> Generator[Any, Any, None]:
+                         gen: Generator[simpy.Event, Any, object], response: Message | None
+                         ) -> _Serving:
         try:
             result = yield from gen
         except Exception as exc:  # noqa: BLE001 - becomes the client's error
@@ -205,7 +216,7 @@ class Service:
             return
         self._finish(conn, call, result, response)
 
-    def _finish(self, conn: ServiceConnection, call: PendingCall, result: Any,
+    def _finish(self, conn: ServiceConnection, call: PendingCall, result: object,
                 response: Message | None) -> None:
         try:
             if response is None:
@@ -243,8 +254,9 @@ class Service:
             self.node.logerr("Error processing request: %s", str(exc))
         self._send(conn, call, False, server_error_text(exc, self.style))
 
-    def _send(self, conn: ServiceConnection, call: PendingCall, ok: bool, payload: Any) -> None:
-        """Send the response (or error) back, unless nobody is listening any more."""
+    def _send(self, conn: ServiceConnection, call: PendingCall, ok: bool,
+              payload: bytes | str) -> None:
+        """Send the response (bytes) or error text back, unless nobody is listening any more."""
         if conn.server_gone or call.done:
             reason = "server shut down" if conn.server_gone else "client gave up"
             call.stats.discarded += 1

@@ -21,7 +21,7 @@ latency later (``"transport error completing service call: ..."``).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import ROSSerializationException
 
@@ -153,7 +153,7 @@ class PendingCall:
         self.event.fail(exc)
 
 
-def _snapshot(msg: Message, data: bytes) -> Any:
+def _snapshot(msg: Message, data: bytes) -> Message:
     """An independent copy of ``msg`` for the trace (what went over the wire)."""
     cls = type(msg)
     return cls.__new__(cls)._deserialize_from(data)

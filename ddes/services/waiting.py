@@ -9,29 +9,27 @@ node's ROS time, so it lands on an exact simulated instant.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import DdesValueError, ROSException, ROSInterruptException
 from ddes.services.network import network_of
 from ddes.services.server import check_service_name
-from ddes.time.units import duration_to_ns
+from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
     import simpy
 
     from ddes.graph.node import Node
 
-__all__ = ["timeout_ns", "wait_for_service", "wait_for_service_ns"]
+__all__ = ["check_nonzero_timeout", "wait_for_service", "wait_for_service_ns"]
 
 
-def timeout_ns(timeout: Any, what: str = "timeout") -> int | None:
-    """A timeout (seconds or Duration) as ns; None stays None; 0 raises ValueError (rospy)."""
-    if timeout is None:
-        return None
-    ns = duration_to_ns(timeout, what)
-    if ns == 0:
+def check_nonzero_timeout(timeout_ns: int | None) -> int | None:
+    """``timeout_ns`` unchanged, unless it is 0: rospy's ``ValueError("timeout must be
+    non-zero")`` (None, no timeout, is fine)."""
+    if timeout_ns == 0:
         raise DdesValueError("timeout must be non-zero")
-    return ns
+    return timeout_ns
 
 
 class _Waiter:
@@ -49,7 +47,7 @@ class _Waiter:
             self.node.remove_entity(self)
             self.event.succeed(None)
 
-    def expire(self, _ev: Any = None) -> None:
+    def expire(self, _ev: simpy.Event | None = None) -> None:
         if not self.event.triggered:
             self._stop()
             self.event.fail(ROSException(f"timeout exceeded while waiting for service {self.name}"))
@@ -64,7 +62,8 @@ class _Waiter:
         network_of(self.node.world).remove_waiter(self.name, self.registered)
 
 
-def wait_for_service(node: Node, service: str, timeout: Any = None) -> simpy.Event:
+def wait_for_service(node: Node, service: str,
+                     timeout: DurationLike | None = None) -> simpy.Event:
     """Event that fires once ``service`` is available (rospy.wait_for_service).
 
     ``service`` is resolved with ``node``'s namespace and remappings.
@@ -75,17 +74,19 @@ def wait_for_service(node: Node, service: str, timeout: Any = None) -> simpy.Eve
     first the event fails with ``ROSInterruptException("rospy shutdown")``.
     """
     check_service_name(service, "wait_for_service")
-    ns = timeout_ns(timeout)
+    timeout_ns = None if timeout is None else duration_to_ns(timeout, "timeout")
+    check_nonzero_timeout(timeout_ns)
     node.check_alive("wait for a service")
-    return wait_for_service_ns(node, node.resolve_name(service), ns)
+    return wait_for_service_ns(node, node.resolve_name(service), timeout_ns)
 
 
-def wait_for_service_ns(node: Node, name: str, ns: int | None) -> simpy.Event:
-    """:func:`wait_for_service` for a resolved ``name`` and a timeout in ns (None: for ever)."""
+def wait_for_service_ns(node: Node, name: str, timeout_ns: int | None) -> simpy.Event:
+    """:func:`wait_for_service` for a resolved ``name`` and a timeout in int ns (None: for
+    ever)."""
     world = node.world
     event = world.env.event()
     waiter = _Waiter(node, name, event)
-    if ns is not None and ns < 0:
+    if timeout_ns is not None and timeout_ns < 0:
         waiter.expire()
         return event
     if world.master.lookup_service(name) is not None:
@@ -93,7 +94,7 @@ def wait_for_service_ns(node: Node, name: str, ns: int | None) -> simpy.Event:
         return event
     node.add_entity(waiter)
     network_of(world).add_waiter(name, waiter.registered)
-    if ns is not None:
+    if timeout_ns is not None:
         clock = node.clock
-        clock.wait_until(clock.now_ns() + ns).callbacks.append(waiter.expire)
+        clock.wait_until(clock.now_ns() + timeout_ns).callbacks.append(waiter.expire)
     return event

@@ -51,7 +51,7 @@ import unittest
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
@@ -76,7 +76,12 @@ from ddes.actionlib.states import (
 from ddes.errors import DdesTypeError, DdesValueError
 from ddes.graph.world import World
 from ddes.msg import dict_to_message, get_message_class, message_to_dict
+from ddes.msg.message import Message
 from ddes.testing.strategies import messages
+from ddes.time.units import duration_to_ns, ns_to_sec, time_to_ns
+
+if TYPE_CHECKING:
+    from ddes.graph.node import Node
 
 __all__ = [
     "LATENCIES",
@@ -86,7 +91,10 @@ __all__ = [
     "run_protocol_machine",
 ]
 
-_NS = 1_000_000_000
+#: ``make_server(world, node) -> server``: builds the action server under test on ``node``.
+ServerFactory = Callable[[World, "Node"], object]
+#: What a goal strategy draws: a ``FooGoal`` message, or a dict of its fields.
+GoalDraw = Message | Mapping[str, object]
 #: The latencies (seconds) the machine puts on the five topics.
 LATENCIES: tuple[float, ...] = (0.0, 0.001, 0.02, 0.1, 0.3)
 #: The spans of simulated time (seconds) one ``advance`` step lets pass.
@@ -156,11 +164,11 @@ class _Spy:
         node.subscribe(ns + "/feedback", types.action_feedback, self._feedback)
 
     def _log(self, text: str) -> None:
-        self.events.append(f"{self.world.now / _NS:10.6f}s  {text}")
+        self.events.append(f"{ns_to_sec(self.world.now):10.6f}s  {text}")
         del self.events[:-40]
 
     def _bad(self, text: str) -> None:
-        self.violations.append(f"at {self.world.now / _NS:.6f}s: {text}")
+        self.violations.append(f"at {ns_to_sec(self.world.now):.6f}s: {text}")
 
     def _goal(self, gid: str) -> _Goal:
         g = self.goals.get(gid)
@@ -168,8 +176,8 @@ class _Spy:
             g = self.goals[gid] = _Goal()
         return g
 
-    def _status(self, msg: Any) -> None:
-        now, stamp = self.world.now, msg.header.stamp.to_nsec()
+    def _status(self, msg: Message) -> None:
+        now, stamp = self.world.now, time_to_ns(msg.header.stamp)
         listed: dict[str, int] = {}
         for st_ in msg.status_list:
             listed.setdefault(st_.goal_id.id, st_.status)
@@ -202,7 +210,7 @@ class _Spy:
         for _arr, rstamp, rstatus in g.results:
             if stamp > rstamp and new != rstatus:
                 self._bad(f"goal {gid}: the status array says {new.name} after its result "
-                          f"({_name(rstatus)}, stamped {rstamp / _NS:.6f}s)")
+                          f"({_name(rstatus)}, stamped {ns_to_sec(rstamp):.6f}s)")
 
     def _check_drop(self, gid: str, g: _Goal, stamp: int) -> None:
         if g.placeholder:
@@ -213,12 +221,13 @@ class _Spy:
             return
         rstamp = g.results[0][1]
         if stamp - rstamp <= self.timeout_ns:
-            self._bad(f"goal {gid} left the status array {(stamp - rstamp) / _NS:.6f}s after its "
-                      f"result; it must stay status_list_timeout = {self.timeout_ns / _NS}s")
+            self._bad(f"goal {gid} left the status array {ns_to_sec(stamp - rstamp):.6f}s after "
+                      f"its result; it must stay status_list_timeout = "
+                      f"{ns_to_sec(self.timeout_ns)}s")
 
-    def _result(self, msg: Any) -> None:
+    def _result(self, msg: Message) -> None:
         gid, status = msg.status.goal_id.id, msg.status.status
-        stamp = msg.header.stamp.to_nsec()
+        stamp = time_to_ns(msg.header.stamp)
         self._log(f"result {gid}={_name(status)}")
         g = self._goal(gid)
         if g.results:
@@ -234,7 +243,7 @@ class _Spy:
                 break
         g.results.append((self.world.now, stamp, status))
 
-    def _feedback(self, msg: Any) -> None:
+    def _feedback(self, msg: Message) -> None:
         self._log(f"feedback {msg.status.goal_id.id}={_name(msg.status.status)}")
         if msg.status.status == GoalStatus.LOST:
             self._bad(f"goal {msg.status.goal_id.id}: feedback carries the status LOST")
@@ -248,8 +257,8 @@ class ActionProtocolMachine(RuleBasedStateMachine):
     every goal), ``server_node`` (the server node's name).
     """
 
-    make_server: ClassVar[Callable[[World, Any], Any] | None] = None
-    action: ClassVar[Any] = None
+    make_server: ClassVar[ServerFactory | None] = None
+    action: ClassVar[type[Message] | None] = None
     ns: ClassVar[str] = ""
     settle: ClassVar[float] = 30.0
     server_node: ClassVar[str] = "action_server"
@@ -266,11 +275,11 @@ class ActionProtocolMachine(RuleBasedStateMachine):
     @classmethod
     def machine_for(
         cls,
-        make_server: Callable[[World, Any], Any],
+        make_server: ServerFactory,
         *,
-        action: Any = None,
+        action: type[Message] | str | None = None,
         ns: str | None = None,
-        goals: st.SearchStrategy[Any] | None = None,
+        goals: st.SearchStrategy[GoalDraw] | None = None,
         settle: float = 30.0,
         name: str | None = None,
     ) -> type[ActionProtocolMachine]:
@@ -294,15 +303,15 @@ class ActionProtocolMachine(RuleBasedStateMachine):
                                  f"('/fibonacci'), got {ns!r}")
         goal_cls = types.goal
         strategy = goals if goals is not None else messages(goal_cls, max_size=3)
-        goal_dicts = strategy.map(lambda g: message_to_dict(g) if hasattr(g, "_type") else g)
+        goal_dicts = strategy.map(lambda g: g if isinstance(g, Mapping) else message_to_dict(g))
 
         class Machine(cls):  # type: ignore[valid-type,misc]
             @rule(goal=goal_dicts)
-            def send_goal(self, goal: dict[str, Any]) -> None:
+            def send_goal(self, goal: Mapping[str, object]) -> None:
                 """Send a goal (given as a dict of its fields)."""
                 self._send(dict_to_message(goal_cls, goal))
 
-        Machine.make_server = staticmethod(make_server)  # type: ignore[assignment]
+        Machine.make_server = staticmethod(make_server)
         Machine.action = types.spec
         Machine.ns = ns
         Machine.settle = float(settle)
@@ -313,11 +322,11 @@ class ActionProtocolMachine(RuleBasedStateMachine):
     @classmethod
     def for_server(
         cls,
-        make_server: Callable[[World, Any], Any],
+        make_server: ServerFactory,
         *,
-        action: Any = None,
+        action: type[Message] | str | None = None,
         ns: str | None = None,
-        goals: st.SearchStrategy[Any] | None = None,
+        goals: st.SearchStrategy[GoalDraw] | None = None,
         settle: float = 30.0,
         max_examples: int = 50,
         stateful_step_count: int = 20,
@@ -343,7 +352,8 @@ class ActionProtocolMachine(RuleBasedStateMachine):
         node = world.create_node(type(self).server_node)
         self.server = make(world, node)
         timeout = world.params.get_param(self.ns + "/status_list_timeout", 5.0)
-        self.spy = _Spy(world, self.ns, types, int(round(float(timeout) * _NS)))
+        # as the server reads it (Duration.from_sec: truncated to whole ns)
+        self.spy = _Spy(world, self.ns, types, duration_to_ns(float(timeout), "status_list_timeout"))
         self.client = ActionClient(world.create_node("protocol_client", disable_rosout=True),
                                    self.ns, types.spec)
         self.schedule.append(f"world seed {seed}")
@@ -356,9 +366,9 @@ class ActionProtocolMachine(RuleBasedStateMachine):
     # -- rules ------------------------------------------------------------------------------
     def _note(self, text: str) -> None:
         assert self.world is not None
-        self.schedule.append(f"{self.world.now / _NS:10.6f}s  {text}")
+        self.schedule.append(f"{ns_to_sec(self.world.now):10.6f}s  {text}")
 
-    def _send(self, goal: Any) -> None:
+    def _send(self, goal: Message) -> None:
         gh = self.client.send_goal(goal, transition_cb=self._transition)
         self.handles.append(gh)
         self._note(f"send_goal {gh.get_goal_id()}: {message_to_dict(goal)}")
@@ -483,7 +493,7 @@ class ActionProtocolMachine(RuleBasedStateMachine):
         for topic in _TOPICS:
             world.set_link(f"{self.ns}/{topic}", latency=0.0)
         self.client.cancel_all_goals()
-        deadline = world.now + int(type(self).settle * _NS)
+        deadline = world.now + duration_to_ns(type(self).settle, "settle")
         while world.now < deadline and (self._live() or self._unfinished()):
             world.run_for(0.5)
         self.protocol_holds()
@@ -504,7 +514,7 @@ class ActionProtocolMachine(RuleBasedStateMachine):
                 if g.arrays and not g.results and not g.placeholder]
 
 
-def _discover(make_server: Callable[[World, Any], Any]) -> tuple[Any, str]:
+def _discover(make_server: ServerFactory) -> tuple[type[Message], str]:
     """The ActionSpec and namespace of the server a factory makes (built in a scratch world)."""
     world = World(0)
     node = world.create_node("action_server")
@@ -527,8 +537,9 @@ def _settings(max_examples: int, stateful_step_count: int, **kw: Any) -> setting
     return settings(max_examples=max_examples, stateful_step_count=stateful_step_count, **kw)
 
 
-def run_protocol_machine(make_server: Callable[[World, Any], Any], *, action: Any = None,
-                         ns: str | None = None, goals: st.SearchStrategy[Any] | None = None,
+def run_protocol_machine(make_server: ServerFactory, *,
+                         action: type[Message] | str | None = None, ns: str | None = None,
+                         goals: st.SearchStrategy[GoalDraw] | None = None,
                          settle: float = 30.0, max_examples: int = 50,
                          stateful_step_count: int = 20, **settings_kw: Any) -> None:
     """Run the machine on a server now; raises (after shrinking) on a violation."""

@@ -16,32 +16,37 @@ serializes, and survives serialize/deserialize and dict/YAML round trips.
 
 from __future__ import annotations
 
-from typing import Any, TypeVar
+from typing import TypeAlias, TypeVar
 
 from hypothesis import strategies as st
 
 from ddes.msg.message import FieldInfo, Message
 from ddes.time.rostime import Duration, Time
 
-__all__ = ["durations", "field_values", "messages", "times"]
+__all__ = ["FieldValue", "durations", "field_values", "messages", "times"]
 
 M = TypeVar("M", bound=Message)
 
-_NS = 1_000_000_000
+#: A field's value: a scalar, a Time/Duration, a nested message, bytes (``uint8[]``), or a list.
+FieldValue: TypeAlias = (
+    bool | int | float | str | bytes | Time | Duration | Message | list["FieldValue"]
+)
+
+_MAX_NSECS = 999_999_999  # canonical nsecs of a Time/Duration on the wire
 
 
 def times() -> st.SearchStrategy[Time]:
     """Any Time the wire format can carry (secs in uint32, canonical nsecs)."""
-    return st.builds(Time, st.integers(0, 2**32 - 1), st.integers(0, _NS - 1))
+    return st.builds(Time, st.integers(0, 2**32 - 1), st.integers(0, _MAX_NSECS))
 
 
 def durations() -> st.SearchStrategy[Duration]:
     """Any Duration the wire format can carry (secs in int32, canonical nsecs)."""
-    return st.builds(Duration, st.integers(-(2**31), 2**31 - 1), st.integers(0, _NS - 1))
+    return st.builds(Duration, st.integers(-(2**31), 2**31 - 1), st.integers(0, _MAX_NSECS))
 
 
 def _scalar(info: FieldInfo, max_size: int, allow_nan: bool,
-            allow_infinity: bool) -> st.SearchStrategy[Any]:
+            allow_infinity: bool) -> st.SearchStrategy[FieldValue]:
     kind = info.kind
     if kind in ("int", "bytes"):
         return st.integers(info.low, info.high)
@@ -62,7 +67,7 @@ def _scalar(info: FieldInfo, max_size: int, allow_nan: bool,
 
 
 def field_values(info: FieldInfo, *, max_size: int = 4, allow_nan: bool = False,
-                 allow_infinity: bool = True) -> st.SearchStrategy[Any]:
+                 allow_infinity: bool = True) -> st.SearchStrategy[FieldValue]:
     """Valid values of one field (arrays as lists, ``uint8[]`` as bytes)."""
     n = info.array_len
     if info.kind == "bytes":

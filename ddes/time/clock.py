@@ -17,15 +17,39 @@ from __future__ import annotations
 
 import heapq
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Protocol
 
 from ddes.errors import ROSTimeMovedBackwardsException
 from ddes.time.rostime import Time, WallTime
 
 if TYPE_CHECKING:
     import simpy
+    from simpy.events import ProcessGenerator
 
-__all__ = ["Clock", "KernelClock", "SimClock"]
+    from ddes.time.units import HasNsec
+
+__all__ = ["Clock", "ClockMessage", "ClockOwner", "KernelClock", "NsEnv", "SimClock"]
+
+
+class NsEnv(Protocol):
+    """The SimPy environment of a world as the clocks use it: ``now`` is integer
+    nanoseconds (the kernel's ``NsEnvironment``)."""
+
+    @property
+    def now(self) -> int: ...
+
+    def timeout(self, delay: int = 0, value: object = None) -> simpy.Timeout: ...
+
+    def event(self) -> simpy.Event: ...
+
+    def process(self, generator: ProcessGenerator) -> simpy.Process: ...
+
+
+class ClockMessage(Protocol):
+    """A ``rosgraph_msgs/Clock`` message: its ``clock`` field is the time."""
+
+    @property
+    def clock(self) -> HasNsec: ...
 
 
 class Clock:
@@ -33,7 +57,7 @@ class Clock:
 
     is_sim: bool = False
 
-    def __init__(self, env: simpy.Environment) -> None:
+    def __init__(self, env: NsEnv) -> None:
         #: The SimPy environment whose ``now`` is integer nanoseconds.
         self.env = env
 
@@ -78,7 +102,7 @@ class KernelClock(Clock):
     is_sim = False
 
     def now_ns(self) -> int:
-        return self.env.now  # type: ignore[no-any-return]
+        return self.env.now
 
     def get_walltime(self) -> WallTime:
         """Kernel time as a WallTime."""
@@ -97,13 +121,13 @@ class SimClock(Clock):
 
     is_sim = True
 
-    def __init__(self, env: simpy.Environment) -> None:
+    def __init__(self, env: NsEnv) -> None:
         super().__init__(env)
         self._now = 0
         self._seq = 0
         # (target_ns, seq, start_ns or -1, event)
-        self._waiters: list[tuple[int, int, int, Any]] = []
-        self._valid_waiters: list[Any] = []
+        self._waiters: list[tuple[int, int, int, simpy.Event]] = []
+        self._valid_waiters: list[simpy.Event] = []
         self._jump_listeners: list[Callable[[int, int], None]] = []
         #: Number of /clock updates received.
         self.updates = 0
@@ -114,13 +138,14 @@ class SimClock(Clock):
     def is_valid(self) -> bool:
         return self._now != 0
 
-    def update(self, t: Any) -> None:
+    def update(self, t: int | HasNsec | ClockMessage) -> None:
         """Set the time from a ``/clock`` message, a Time or integer ns."""
         if isinstance(t, int):
             new = t
         else:
             clock_field = getattr(t, "clock", None)  # rosgraph_msgs/Clock
-            new = (clock_field if clock_field is not None else t).to_nsec()
+            # Without a clock field, t is a Time (HasNsec).
+            new = (clock_field if clock_field is not None else t).to_nsec()  # type: ignore[union-attr]
         old = self._now
         self._now = new
         self.updates += 1
@@ -172,3 +197,10 @@ class SimClock(Clock):
     def remove_jump_listener(self, fn: Callable[[int, int], None]) -> None:
         if fn in self._jump_listeners:
             self._jump_listeners.remove(fn)
+
+
+class ClockOwner(Protocol):
+    """A node as :func:`~ddes.time.sleep.sleep` and the rates see it: it has a :attr:`clock`."""
+
+    @property
+    def clock(self) -> Clock: ...

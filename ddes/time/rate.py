@@ -18,19 +18,33 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Generator
-from typing import Any
+from typing import Protocol
 
 import simpy
 
 from ddes.errors import DdesTypeError, DdesValueError, ROSTimeMovedBackwardsException
-from ddes.time.clock import Clock
+from ddes.time.clock import Clock, ClockOwner, KernelClock
 from ddes.time.rostime import Duration, WallDuration
 from ddes.time.sleep import _sim_sleep, duration_sleep
 
 __all__ = ["Rate", "RoscppRate", "WallRate", "check_hz", "roscpp_period_ns"]
 
 
-def check_hz(hz: Any) -> float:
+class KernelClockOwner(Protocol):
+    """A world (or kernel): it has the :attr:`kernel_clock` a :class:`WallRate` runs on."""
+
+    @property
+    def kernel_clock(self) -> KernelClock: ...
+
+
+class WorldOwner(Protocol):
+    """A node, as :class:`WallRate` sees it: it belongs to a world."""
+
+    @property
+    def world(self) -> KernelClockOwner: ...
+
+
+def check_hz(hz: object) -> float:
     """Validate a frequency: a finite number > 0."""
     if isinstance(hz, bool) or not isinstance(hz, numbers.Real):
         raise DdesTypeError(f"rate must be a number in Hz, got {hz!r} ({type(hz).__name__})")
@@ -48,7 +62,7 @@ def roscpp_period_ns(hz: float) -> int:
     return sec * 1_000_000_000 + nsec
 
 
-def _clock_of(owner: Any) -> Clock:
+def _clock_of(owner: Clock | ClockOwner) -> Clock:
     clock = getattr(owner, "clock", owner)
     if not isinstance(clock, Clock):
         raise DdesTypeError(f"expected a node or a clock, got {owner!r}")
@@ -58,7 +72,7 @@ def _clock_of(owner: Any) -> Clock:
 class Rate:
     """rospy.Rate on a node's ROS clock: ``yield rate.sleep()``."""
 
-    def __init__(self, node: Any, hz: float, reset: bool = False) -> None:
+    def __init__(self, node: Clock | ClockOwner, hz: float, reset: bool = False) -> None:
         self._clock = _clock_of(node)
         hz = check_hz(hz)
         period = int(1e9 / hz)
@@ -102,7 +116,7 @@ class Rate:
             return clock.env.timeout(remaining if remaining > 0 else 0)
         return clock.env.process(self._sim_sleep(curr, remaining))
 
-    def _sim_sleep(self, curr: int, remaining: int) -> Generator[Any, Any, None]:
+    def _sim_sleep(self, curr: int, remaining: int) -> Generator[simpy.Event, object, None]:
         try:
             yield from _sim_sleep(self._clock, remaining)
         except ROSTimeMovedBackwardsException:
@@ -116,8 +130,8 @@ class Rate:
 class WallRate(Rate):
     """roscpp ``ros::WallRate``: a Rate on the kernel ("wall") clock."""
 
-    def __init__(self, node: Any, hz: float, reset: bool = False) -> None:
-        world = getattr(node, "world", node)
+    def __init__(self, node: KernelClockOwner | WorldOwner, hz: float, reset: bool = False) -> None:
+        world = node.world if hasattr(node, "world") else node  # a node's world, or the world
         super().__init__(world.kernel_clock, hz, reset)
 
     @property
@@ -128,7 +142,7 @@ class WallRate(Rate):
 class RoscppRate:
     """roscpp ``ros::Rate``: ``ok = yield rate.sleep()`` tells if the cycle was met."""
 
-    def __init__(self, node: Any, hz: float) -> None:
+    def __init__(self, node: Clock | ClockOwner, hz: float) -> None:
         self._clock = _clock_of(node)
         hz = check_hz(hz)
         self._period = roscpp_period_ns(hz)

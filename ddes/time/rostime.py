@@ -23,9 +23,12 @@ from __future__ import annotations
 
 import math
 import numbers
-from typing import Any, ClassVar, TypeVar
+from typing import TYPE_CHECKING, ClassVar, Generic, Protocol, TypeVar, overload
 
 from ddes.errors import DdesTypeError, DdesValueError
+
+if TYPE_CHECKING:
+    from typing_extensions import Self
 
 __all__ = [
     "DAY",
@@ -45,9 +48,17 @@ __all__ = [
 _NS = 1_000_000_000
 
 _T = TypeVar("_T", bound="TVal")
+#: The other kind of a time class: the span of a point (Duration of Time), the point of a span.
+_K = TypeVar("_K", bound="TVal")
 
 
-def _split_float(value: Any) -> tuple[int, int]:
+class HasRosTime(Protocol):
+    """What :meth:`Time.now` reads: a node or a clock (anything with ``get_rostime()``)."""
+
+    def get_rostime(self) -> Time: ...
+
+
+def _split_float(value: object) -> tuple[int, int]:
     """Split float seconds the way genpy does: truncate towards zero."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise DdesTypeError(
@@ -72,9 +83,9 @@ class TVal:
 
     _kind: ClassVar[str] = "TVal"
 
-    def __init__(self, secs: Any = 0, nsecs: Any = 0) -> None:
+    def __init__(self, secs: float = 0, nsecs: int = 0) -> None:
         if isinstance(secs, numbers.Integral) and not isinstance(secs, bool):
-            secs = int(secs)
+            whole = int(secs)
             if not isinstance(nsecs, numbers.Integral) or isinstance(nsecs, bool):
                 raise DdesTypeError(
                     f"nsecs must be an integer number of nanoseconds, got {nsecs!r}"
@@ -87,9 +98,9 @@ class TVal:
                     f"nsecs={nsecs!r}); use {type(self).__name__}(secs) or "
                     f"{type(self).__name__}(int_secs, nsecs)"
                 )
-            secs, nsecs = _split_float(secs)
+            whole, nsecs = _split_float(secs)
         carry, nsecs = divmod(nsecs, _NS)
-        self.secs = secs + carry
+        self.secs = whole + carry
         self.nsecs = nsecs
 
     # -- construction -----------------------------------------------------
@@ -149,13 +160,13 @@ class TVal:
     def __hash__(self) -> int:
         return hash((self.secs, self.nsecs))
 
-    def __reduce__(self) -> tuple[Any, ...]:
+    def __reduce__(self: _T) -> tuple[type[_T], tuple[int, int]]:
         return (type(self), (self.secs, self.nsecs))
 
     def __copy__(self: _T) -> _T:
         return type(self)._from_ns(self.to_nsec())
 
-    def __deepcopy__(self: _T, memo: dict[int, Any]) -> _T:
+    def __deepcopy__(self: _T, memo: dict[int, object]) -> _T:
         return type(self)._from_ns(self.to_nsec())
 
     # -- comparison ---------------------------------------------------------
@@ -166,40 +177,40 @@ class TVal:
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, self._same_kind()):
             return False
-        return self.secs == other.secs and self.nsecs == other.nsecs  # type: ignore[attr-defined]
+        return self.secs == other.secs and self.nsecs == other.nsecs
 
     def __ne__(self, other: object) -> bool:
         return not self.__eq__(other)
 
-    def __lt__(self, other: Any) -> bool:
+    def __lt__(self: _T, other: _T) -> bool:
         if not isinstance(other, self._same_kind()):
             return NotImplemented
         return self.to_nsec() < other.to_nsec()
 
-    def __le__(self, other: Any) -> bool:
+    def __le__(self: _T, other: _T) -> bool:
         if not isinstance(other, self._same_kind()):
             return NotImplemented
         return self.to_nsec() <= other.to_nsec()
 
-    def __gt__(self, other: Any) -> bool:
+    def __gt__(self: _T, other: _T) -> bool:
         if not isinstance(other, self._same_kind()):
             return NotImplemented
         return self.to_nsec() > other.to_nsec()
 
-    def __ge__(self, other: Any) -> bool:
+    def __ge__(self: _T, other: _T) -> bool:
         if not isinstance(other, self._same_kind()):
             return NotImplemented
         return self.to_nsec() >= other.to_nsec()
 
 
-class _TimeBase(TVal):
-    """Shared algebra of points in time (Time, WallTime)."""
+class _TimeBase(TVal, Generic[_K]):
+    """Shared algebra of points in time (Time, WallTime); ``_K`` is the span kind."""
 
     __slots__ = ()
 
-    _duration: ClassVar[type[_DurationBase]]
+    _duration: ClassVar[type[TVal]]  # the class of _K
 
-    def __init__(self, secs: Any = 0, nsecs: Any = 0) -> None:
+    def __init__(self, secs: float = 0, nsecs: int = 0) -> None:
         super().__init__(secs, nsecs)
         if self.secs < 0:
             raise DdesTypeError(
@@ -227,27 +238,31 @@ class _TimeBase(TVal):
         obj.secs, obj.nsecs = divmod(ns, _NS)
         return obj
 
-    def __add__(self, other: Any) -> Any:
+    def __add__(self, other: _K) -> Self:
         if not isinstance(other, self._duration):
             return NotImplemented
         return type(self)._from_ns(self.to_nsec() + other.to_nsec())
 
     __radd__ = __add__
 
-    def __sub__(self, other: Any) -> Any:
+    @overload
+    def __sub__(self, other: _K) -> Self: ...
+    @overload
+    def __sub__(self, other: Self) -> _K: ...
+    def __sub__(self, other: _K | Self) -> Self | _K:
         if isinstance(other, type(self)._same_kind()):
-            return self._duration._from_ns(self.to_nsec() - other.to_nsec())
+            return self._duration._from_ns(self.to_nsec() - other.to_nsec())  # type: ignore[return-value]
         if isinstance(other, self._duration):
             return type(self)._from_ns(self.to_nsec() - other.to_nsec())
         return NotImplemented
 
 
-class _DurationBase(TVal):
-    """Shared algebra of spans of time (Duration, WallDuration)."""
+class _DurationBase(TVal, Generic[_K]):
+    """Shared algebra of spans of time (Duration, WallDuration); ``_K`` is the point kind."""
 
     __slots__ = ()
 
-    _time: ClassVar[type[_TimeBase]]
+    _time: ClassVar[type[TVal]]  # the class of _K
 
     def __neg__(self: _T) -> _T:
         return type(self)._from_ns(-self.to_nsec())
@@ -260,21 +275,25 @@ class _DurationBase(TVal):
             return self
         return type(self)._from_ns(-self.to_nsec())
 
-    def __add__(self, other: Any) -> Any:
+    @overload
+    def __add__(self, other: _K) -> _K: ...
+    @overload
+    def __add__(self, other: Self) -> Self: ...
+    def __add__(self, other: _K | Self) -> _K | Self:
         if isinstance(other, self._time):
-            return other.__add__(self)
+            return other.__add__(self)  # type: ignore[operator]  # other is a _K: self._time
         if isinstance(other, type(self)._same_kind()):
             return type(self)._from_ns(self.to_nsec() + other.to_nsec())
         return NotImplemented
 
     __radd__ = __add__
 
-    def __sub__(self, other: Any) -> Any:
+    def __sub__(self: _T, other: _T) -> _T:
         if not isinstance(other, type(self)._same_kind()):
             return NotImplemented
         return type(self)._from_ns(self.to_nsec() - other.to_nsec())
 
-    def __mul__(self, val: Any) -> Any:
+    def __mul__(self: _T, val: float) -> _T:
         if isinstance(val, numbers.Integral):
             return type(self)._from_ns(self.to_nsec() * int(val))
         if isinstance(val, numbers.Real):
@@ -283,14 +302,22 @@ class _DurationBase(TVal):
 
     __rmul__ = __mul__
 
-    def __floordiv__(self, val: Any) -> Any:
+    @overload
+    def __floordiv__(self: _T, val: _T) -> int: ...
+    @overload
+    def __floordiv__(self: _T, val: float) -> _T: ...
+    def __floordiv__(self: _T, val: _T | float) -> int | _T:
         if isinstance(val, type(self)._same_kind()):
             return int(self.to_sec() // val.to_sec())
         if isinstance(val, numbers.Real):
             return type(self).from_sec(self.to_sec() // float(val))
         return NotImplemented
 
-    def __truediv__(self, val: Any) -> Any:
+    @overload
+    def __truediv__(self: _T, val: _T) -> float: ...
+    @overload
+    def __truediv__(self: _T, val: float) -> _T: ...
+    def __truediv__(self: _T, val: _T | float) -> float | _T:
         if isinstance(val, type(self)._same_kind()):
             return self.to_sec() / val.to_sec()
         if isinstance(val, numbers.Real):
@@ -298,29 +325,33 @@ class _DurationBase(TVal):
         return NotImplemented
 
     # % and divmod go through float seconds, exactly as genpy does.
-    def __mod__(self, val: Any) -> Any:
+    def __mod__(self: _T, val: _T) -> _T:
         if isinstance(val, type(self)._same_kind()):
             return type(self).from_sec(self.to_sec() % val.to_sec())
         return NotImplemented
 
-    def __divmod__(self, val: Any) -> Any:
+    def __divmod__(self: _T, val: _T) -> tuple[int, _T]:
         if isinstance(val, type(self)._same_kind()):
             q, r = divmod(self.to_sec(), val.to_sec())
             return int(q), type(self).from_sec(r)
         return NotImplemented
 
 
-class Time(_TimeBase):
+class Time(_TimeBase["Duration"]):
     """A point in ROS time (rospy.Time / genpy.Time)."""
 
     __slots__ = ()
+
+    ZERO: ClassVar[Time]
+    MIN: ClassVar[Time]
+    MAX: ClassVar[Time]
 
     @classmethod
     def _same_kind(cls) -> type[TVal]:
         return Time
 
     @classmethod
-    def now(cls, clock: Any = None) -> Time:
+    def now(cls, clock: HasRosTime | None = None) -> Time:
         """Current ROS time of ``clock`` (a node, a clock or a world).
 
         rospy's ``Time.now()`` reads a process-wide clock; ddes has none, so
@@ -333,20 +364,24 @@ class Time(_TimeBase):
                 "time is not initialized: ddes has no global node; call "
                 "Time.now(node) or node.get_rostime()"
             )
-        return clock.get_rostime()  # type: ignore[no-any-return]
+        return clock.get_rostime()
 
 
-class Duration(_DurationBase):
+class Duration(_DurationBase[Time]):
     """A span of ROS time (rospy.Duration / genpy.Duration); may be negative."""
 
     __slots__ = ()
+
+    ZERO: ClassVar[Duration]
+    MIN: ClassVar[Duration]
+    MAX: ClassVar[Duration]
 
     @classmethod
     def _same_kind(cls) -> type[TVal]:
         return Duration
 
 
-class WallTime(_TimeBase):
+class WallTime(_TimeBase["WallDuration"]):
     """A point in wall time (roscpp ros::WallTime); in ddes, kernel time."""
 
     __slots__ = ()
@@ -356,7 +391,7 @@ class WallTime(_TimeBase):
         return WallTime
 
 
-class WallDuration(_DurationBase):
+class WallDuration(_DurationBase[WallTime]):
     """A span of wall time (roscpp ros::WallDuration)."""
 
     __slots__ = ()
@@ -380,9 +415,9 @@ MINUTE = Duration(60)
 HOUR = Duration(3600)
 DAY = Duration(86400)
 
-Time.ZERO = Time(0)  # type: ignore[attr-defined]
-Time.MIN = Time(0, 1)  # type: ignore[attr-defined]
-Time.MAX = Time(2**32 - 1, 999_999_999)  # type: ignore[attr-defined]
-Duration.ZERO = Duration(0)  # type: ignore[attr-defined]
-Duration.MIN = Duration(-(2**31), 0)  # type: ignore[attr-defined]
-Duration.MAX = Duration(2**31 - 1, 999_999_999)  # type: ignore[attr-defined]
+Time.ZERO = Time(0)
+Time.MIN = Time(0, 1)
+Time.MAX = Time(2**32 - 1, 999_999_999)
+Duration.ZERO = Duration(0)
+Duration.MIN = Duration(-(2**31), 0)
+Duration.MAX = Duration(2**31 - 1, 999_999_999)

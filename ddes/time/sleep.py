@@ -12,18 +12,17 @@
 from __future__ import annotations
 
 from collections.abc import Generator
-from typing import Any
 
 import simpy
 
 from ddes.errors import ROSTimeMovedBackwardsException
-from ddes.time.clock import Clock
-from ddes.time.units import duration_to_ns
+from ddes.time.clock import Clock, ClockOwner
+from ddes.time.units import DurationLike, duration_to_ns
 
 __all__ = ["duration_sleep", "sleep", "sleep_ns"]
 
 
-def _sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
+def _sim_sleep(clock: Clock, d_ns: int) -> Generator[simpy.Event, object, bool]:
     start = clock.now_ns()
     if start == 0:
         yield clock.wait_valid()
@@ -42,13 +41,13 @@ def sleep_ns(clock: Clock, d_ns: int) -> simpy.Event:
     return clock.env.process(_sim_sleep(clock, d_ns))
 
 
-def sleep(clock: Any, duration: Any) -> simpy.Event:
+def sleep(clock: Clock | ClockOwner, duration: DurationLike) -> simpy.Event:
     """rospy.sleep: ``yield sleep(node, 0.5)`` or ``yield node.sleep(0.5)``."""
-    clock = getattr(clock, "clock", clock)
-    return sleep_ns(clock, duration_to_ns(duration))
+    clk = clock.clock if hasattr(clock, "clock") else clock  # a node's clock, or the clock
+    return sleep_ns(clk, duration_to_ns(duration))
 
 
-def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
+def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[simpy.Event, object, bool]:
     try:
         slept = yield from _sim_sleep(clock, d_ns)
     except ROSTimeMovedBackwardsException:
@@ -56,14 +55,14 @@ def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[Any, Any, bool]:
     return bool(slept)
 
 
-def duration_sleep(clock: Any, duration: Any) -> simpy.Event:
+def duration_sleep(clock: Clock | ClockOwner, duration: DurationLike) -> simpy.Event:
     """roscpp ``Duration::sleep()``: the event's value is True if it slept.
 
     Under simulated time it is False when time jumped backwards or no sleep
     was needed at all, as roscpp reports.
     """
-    clock = getattr(clock, "clock", clock)
+    clk = clock.clock if hasattr(clock, "clock") else clock  # a node's clock, or the clock
     d_ns = duration_to_ns(duration)
-    if not clock.is_sim:
-        return clock.env.timeout(d_ns if d_ns > 0 else 0, True)
-    return clock.env.process(_cpp_sim_sleep(clock, d_ns))
+    if not clk.is_sim:
+        return clk.env.timeout(d_ns if d_ns > 0 else 0, True)
+    return clk.env.process(_cpp_sim_sleep(clk, d_ns))

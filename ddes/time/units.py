@@ -22,7 +22,7 @@ to whole nanoseconds), so ``to_ns(0.1) == Duration.from_sec(0.1).to_nsec()``.
 
 from __future__ import annotations
 
-from typing import Protocol, Union, runtime_checkable
+from typing import Protocol, runtime_checkable
 
 from ddes.errors import DdesTypeError, DdesValueError
 from ddes.time.rostime import Duration, Time, TVal, WallDuration, WallTime
@@ -48,9 +48,9 @@ class HasNsec(Protocol):
 
 
 #: A span: seconds, or a Duration/WallDuration.
-DurationLike = Union[float, int, Duration, WallDuration]
+DurationLike = float | int | Duration | WallDuration
 #: An instant: seconds since the epoch of the clock, or a Time/WallTime.
-TimeLike = Union[float, int, Time, WallTime]
+TimeLike = float | int | Time | WallTime
 
 
 def to_ns(value: DurationLike | TimeLike | HasNsec, what: str = "time") -> int:

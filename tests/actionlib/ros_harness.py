@@ -298,7 +298,7 @@ def replay_goal_handle(sequences: list[list[str]]) -> list[list[dict[str, Any]]]
                 "errors": [] if o.transition.error is None else [o.transition.error],
                 "pubs": pubs,
                 "ret": o.transition.legal if event == "cancel_request" else None,
-                "destruction": o.tracker.destruction_time,
+                "destruction": o.tracker.destruction_time_ns,
             })
             # the table alone must agree with the bookkeeping
             assert server_transition(o.transition.before, event) == o.transition
@@ -307,13 +307,13 @@ def replay_goal_handle(sequences: list[list[str]]) -> list[list[dict[str, Any]]]
 
 
 def _pub(p: Publication) -> list[Any]:
-    return [p.topic.value, p.stamp,
-            [[t.goal_id, t.stamp, int(t.status), t.text] for t in p.statuses]]
+    return [p.topic.value, p.stamp_ns,
+            [[t.goal_id, t.stamp_ns, int(t.status), t.text] for t in p.statuses]]
 
 
 def _entry(t: GoalTracker) -> list[Any]:
-    return [t.goal_id, t.stamp, int(t.status), t.text, t.has_goal, t.has_handle,
-            t.destruction_time]
+    return [t.goal_id, t.stamp_ns, int(t.status), t.text, t.has_goal, t.has_handle,
+            t.destruction_time_ns]
 
 
 def replay_server(cases: list[dict[str, Any]]) -> list[list[dict[str, Any]]]:
@@ -360,7 +360,7 @@ def replay_server(cases: list[dict[str, Any]]) -> list[list[dict[str, Any]]]:
             current = {t.serial: t for t in goals.trackers}
             handles = [current.get(h.serial, h) for h in handles]
             trace.append({"list": [_entry(t) for t in goals.trackers],
-                          "last_cancel": goals.last_cancel, "pubs": [_pub(p) for p in pubs],
+                          "last_cancel": goals.last_cancel_ns, "pubs": [_pub(p) for p in pubs],
                           "goal_cb": goal_cb, "cancel_cb": cancel_cb, "errors": errors,
                           "ret": ret})
         out.append(trace)

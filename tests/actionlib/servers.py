@@ -121,7 +121,7 @@ class SimpleTester:
             assert lost is not None
             g = aserver._goals
             aserver._goals = ServerGoals(tuple(t for t in g.trackers if t.serial != lost.serial),
-                                         g.last_cancel, g.status_list_timeout, g.created)
+                                         g.last_cancel_ns, g.status_list_timeout_ns, g.created)
             server.current_goal = ServerGoalHandle.uninitialized(aserver)
         else:
             node.logerr(f"Don't know how to terminate as {status}")

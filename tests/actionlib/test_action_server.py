@@ -173,17 +173,20 @@ def test_recalling_goal_accepted_becomes_preempting(world: ddes.World) -> None:
     assert gh.get_result().result == 5
 
 
-def test_cancel_by_stamp_and_cancel_all(world: ddes.World) -> None:
-    _, client = ref(world)
+@pytest.mark.parametrize("stamp", [ddes.Time(1, 500_000_000), 1.5], ids=["Time", "seconds"])
+def test_cancel_by_stamp_and_cancel_all(world: ddes.World, stamp: ddes.Time | float) -> None:
+    server, client = ref(world)
     world.run(until=1.0)
     a = client.send_goal(RefGoal(4))
     world.run(until=2.0)
     b = client.send_goal(RefGoal(4))
     world.run(until=2.5)
-    client.cancel_goals_at_and_before_time(ddes.Time(1, 500_000_000))
+    client.cancel_goals_at_and_before_time(stamp)  # a Time, or seconds (the unit rule)
     world.run(until=3.0)
     # ref_server's cancel callback does nothing: a is PREEMPTING, b untouched
     assert statuses([a, b]) == [GoalStatus.PREEMPTING, GoalStatus.ACTIVE]
+    assert server.server.last_cancel == ddes.Time(1, 500_000_000)  # rospy's attribute: a Time
+    assert server.server.last_cancel_ns == 1_500_000_000
     client.cancel_all_goals()
     world.run(until=3.5)
     assert statuses([a, b]) == [GoalStatus.PREEMPTING, GoalStatus.PREEMPTING]

@@ -46,15 +46,15 @@ stamps = st.integers(min_value=0, max_value=20).map(lambda k: k * S)
 trackers = st.builds(
     GoalTracker,
     goal_id=real_ids,
-    stamp=stamps,
+    stamp_ns=stamps,
     status=st.sampled_from([s for s in GoalStatus if s is not GoalStatus.LOST]),
     has_goal=st.booleans(),
     has_handle=st.booleans(),
-    destruction_time=stamps,
+    destruction_time_ns=stamps,
 )
 tracker_lists = st.lists(trackers, max_size=8).map(
-    lambda ts: tuple(GoalTracker(t.goal_id, t.stamp, t.status, t.text, t.has_goal, t.has_handle,
-                                 t.destruction_time, serial=i + 1) for i, t in enumerate(ts))
+    lambda ts: tuple(GoalTracker(t.goal_id, t.stamp_ns, t.status, t.text, t.has_goal, t.has_handle,
+                                 t.destruction_time_ns, serial=i + 1) for i, t in enumerate(ts))
 )
 # one interop example is a batch run by one ROS process: shrinking it would rerun ROS for
 # minutes, and the assertion message already names the failing case
@@ -81,7 +81,7 @@ def test_stamp_cancel_is_monotone(ts: tuple[GoalTracker, ...], t1: int, t2: int)
     lo_set = {t.serial for t in ts if cancel_matches(CancelRequest.at_and_before(lo), t)}
     hi_set = {t.serial for t in ts if cancel_matches(CancelRequest.at_and_before(hi), t)}
     assert lo_set <= hi_set
-    assert lo_set == {t.serial for t in ts if t.stamp <= lo}
+    assert lo_set == {t.serial for t in ts if t.stamp_ns <= lo}
 
 
 @given(tracker_lists)
@@ -101,7 +101,7 @@ def test_id_and_stamp_cancel_is_the_union(ts: tuple[GoalTracker, ...], gid: str,
 
 
 def test_cancel_request_validation() -> None:
-    assert CancelRequest.at_and_before(Time(3)).stamp == 3 * S
+    assert CancelRequest.at_and_before(3 * S).stamp_ns == 3 * S
     with pytest.raises(DdesTypeError, match="CancelRequest"):
         receive_cancel(ServerGoals(), ("", 0), 0)  # type: ignore[arg-type]
     with pytest.raises(DdesTypeError, match="Time"):
@@ -112,14 +112,31 @@ def test_cancel_request_validation() -> None:
         CancelRequest(3)  # type: ignore[arg-type]
 
 
+def test_times_of_the_core_are_int_nanoseconds_only() -> None:
+    # the unit rule: a parameter named *_ns takes int ns; a Time, a Duration or seconds is
+    # refused with the way to convert it, never guessed
+    for bad in (Time(3), 3.0, True):
+        with pytest.raises(DdesTypeError, match=r"stamp_ns must be int nanoseconds.*units\.to_ns"):
+            CancelRequest.at_and_before(bad)  # type: ignore[arg-type]
+        with pytest.raises(DdesTypeError, match="now_ns must be int nanoseconds"):
+            receive_goal(ServerGoals(), "a", S, bad, _gen())  # type: ignore[arg-type]
+        with pytest.raises(DdesTypeError, match="now_ns must be int nanoseconds"):
+            publish_status(ServerGoals(), bad)  # type: ignore[arg-type]
+    with pytest.raises(DdesTypeError, match="status_list_timeout_ns must be int nanoseconds"):
+        ServerGoals.create(Duration(1))  # type: ignore[arg-type]
+    assert ServerGoals.create(-1).status_list_timeout_ns == -1  # a span may be negative
+    with pytest.raises(DdesValueError, match="destruction_time_ns must be >= 0"):
+        GoalTracker("a", 0, GoalStatus.PENDING, destruction_time_ns=-1)
+
+
 # --- receive_cancel ------------------------------------------------------------------------------------
 
 
 @given(tracker_lists, requests, stamps)
 def test_receive_cancel_rules(ts: tuple[GoalTracker, ...], req: CancelRequest, now: int) -> None:
-    goals = ServerGoals(ts, last_cancel=5 * S, created=len(ts))
+    goals = ServerGoals(ts, last_cancel_ns=5 * S, created=len(ts))
     out = receive_cancel(goals, req, now)
-    assert out.goals.last_cancel == max(5 * S, req.stamp)
+    assert out.goals.last_cancel_ns == max(5 * S, req.stamp_ns)
     assert out.matched == tuple(t.goal_id for t in ts if cancel_matches(req, t))
     requested = [
         t for t in ts
@@ -133,15 +150,15 @@ def test_receive_cancel_rules(ts: tuple[GoalTracker, ...], req: CancelRequest, n
     assert (out.placeholder is not None) == needs_placeholder
     if out.placeholder is not None:
         p = out.placeholder
-        assert (p.goal_id, p.stamp, p.status) == (req.id, req.stamp, GoalStatus.RECALLING)
-        assert p.is_placeholder and not p.has_handle and p.destruction_time == now
+        assert (p.goal_id, p.stamp_ns, p.status) == (req.id, req.stamp_ns, GoalStatus.RECALLING)
+        assert p.is_placeholder and not p.has_handle and p.destruction_time_ns == now
         assert out.goals.trackers[-1] == p and p.serial == len(ts) + 1
     after = {t.serial: t for t in out.goals.trackers}
     moved = {t.serial for t in requested}
     for t in ts:
         new = after.get(t.serial)
         if new is None:  # pruned while publishing a status array
-            assert requested and is_expired(t, now, goals.status_list_timeout)
+            assert requested and is_expired(t, now, goals.status_list_timeout_ns)
             continue
         if t.serial in moved:
             assert new.status is {GoalStatus.PENDING: GoalStatus.RECALLING,
@@ -149,9 +166,9 @@ def test_receive_cancel_rules(ts: tuple[GoalTracker, ...], req: CancelRequest, n
         else:
             assert new.status is t.status
         if not t.has_handle and cancel_matches(req, t):
-            assert new.has_handle and new.destruction_time == now
+            assert new.has_handle and new.destruction_time_ns == now
         else:
-            assert (new.has_handle, new.destruction_time) == (t.has_handle, t.destruction_time)
+            assert (new.has_handle, new.destruction_time_ns) == (t.has_handle, t.destruction_time_ns)
 
 
 def test_unknown_id_cancel_then_goal_is_recalled() -> None:
@@ -162,12 +179,12 @@ def test_unknown_id_cancel_then_goal_is_recalled() -> None:
     assert g.arrival is GoalArrival.DUPLICATE_RECALLED and not g.call_goal_callback
     assert g.tracker.status is GoalStatus.RECALLED
     assert [p.topic for p in g.publications] == [PublicationTopic.RESULT, PublicationTopic.STATUS]
-    assert g.tracker.destruction_time == 2 * S  # a placeholder's removal timer restarts
+    assert g.tracker.destruction_time_ns == 2 * S  # a placeholder's removal timer restarts
     # the goal message comes again: ignored
     again = receive_goal(g.goals, "late", 2 * S, 3 * S, _gen())
     assert again.arrival is GoalArrival.DUPLICATE and again.publications == ()
     assert len(again.goals.trackers) == 1 and again.tracker.status is GoalStatus.RECALLED
-    assert again.tracker.destruction_time == 3 * S  # still without a handle: bumped again
+    assert again.tracker.destruction_time_ns == 3 * S  # still without a handle: bumped again
 
 
 def test_cancel_of_a_known_id_leaves_no_placeholder_even_when_terminal() -> None:
@@ -188,11 +205,11 @@ def test_late_goal_is_canceled_on_arrival(cancel_stamp: int, goal_stamp: int, no
     tested = goal_stamp if goal_stamp else now  # a zero stamp is replaced by now first
     late = tested != 0 and tested <= cancel_stamp
     assert out.arrival is (GoalArrival.CANCELED_BY_STAMP if late else GoalArrival.NEW)
-    assert out.tracker.stamp == tested
+    assert out.tracker.stamp_ns == tested
     if late:
         assert out.tracker.status is GoalStatus.RECALLED
         assert out.tracker.text == CANCELED_BY_STAMP_TEXT
-        assert out.tracker.destruction_time == now
+        assert out.tracker.destruction_time_ns == now
         assert out.transition is not None and out.transition.legal
         assert out.publications[0].topic is PublicationTopic.RESULT
     else:
@@ -205,11 +222,11 @@ def test_empty_id_goal_gets_generated_id_and_its_message_stamp_is_tested() -> No
     # zero message stamp: never tested, although the tracked stamp (now) is <= last_cancel
     out = receive_goal(goals, "", 0, 7 * S, gen)
     assert out.arrival is GoalArrival.NEW
-    assert (out.tracker.goal_id, out.tracker.stamp) == ("/srv-1-7.0", 7 * S)
+    assert (out.tracker.goal_id, out.tracker.stamp_ns) == ("/srv-1-7.0", 7 * S)
     # nonzero message stamp: tested, but the tracked stamp is the generated one (now)
     out2 = receive_goal(out.goals, "", 3 * S, 12 * S, gen)
     assert out2.arrival is GoalArrival.CANCELED_BY_STAMP
-    assert (out2.tracker.goal_id, out2.tracker.stamp) == ("/srv-2-12.0", 12 * S)
+    assert (out2.tracker.goal_id, out2.tracker.stamp_ns) == ("/srv-2-12.0", 12 * S)
 
 
 @given(tracker_lists, real_ids, stamps)
@@ -237,8 +254,8 @@ def test_goal_events_and_errors() -> None:
     bad = apply_goal_event(acc.goals, "a", "accept", 2 * S)
     assert not bad.transition.legal and bad.publications == () and bad.goals == acc.goals
     assert bad.transition.error is not None and bad.transition.error.endswith("state: 1")
-    done = apply_goal_event(acc.goals, "a", "succeed", Time(3), "ok")
-    assert done.tracker.destruction_time == 3 * S and done.transition.terminal
+    done = apply_goal_event(acc.goals, "a", "succeed", 3 * S, "ok")
+    assert done.tracker.destruction_time_ns == 3 * S and done.transition.terminal
     assert [p.topic for p in done.publications] == [PublicationTopic.RESULT, PublicationTopic.STATUS]
     assert done.publications[0].statuses == (done.tracker,)
     with pytest.raises(DdesKeyError, match="'zz'.*known: 'a'"):
@@ -257,7 +274,7 @@ def test_goal_events_and_errors() -> None:
 
 
 def test_expired_goal_handle_still_acts_on_its_tracker() -> None:
-    g = receive_goal(ServerGoals.create(Duration(1)), "a", S, S, _gen())
+    g = receive_goal(ServerGoals.create(S), "a", S, S, _gen())
     done = apply_goal_event(g.goals, "a", "reject", S)
     gone = publish_status(done.goals, 2 * S + 1)
     assert gone.removed == (done.tracker,) and gone.goals.trackers == ()
@@ -273,23 +290,23 @@ def test_expired_goal_handle_still_acts_on_its_tracker() -> None:
 @given(tracker_lists, stamps, st.sampled_from([0, S, 5 * S, -1]))
 def test_publish_status_prunes_exactly_the_expired(ts: tuple[GoalTracker, ...], now: int,
                                                    timeout: int) -> None:
-    goals = ServerGoals(ts, status_list_timeout=timeout, created=len(ts))
+    goals = ServerGoals(ts, status_list_timeout_ns=timeout, created=len(ts))
     out = publish_status(goals, now)
     assert out.removed == tuple(t for t in ts if is_expired(t, now, timeout))
     assert out.goals.trackers == tuple(t for t in ts if not is_expired(t, now, timeout))
-    assert out.publication.statuses == out.goals.trackers and out.publication.stamp == now
-    assert all(t.destruction_time != 0 for t in out.removed)
+    assert out.publication.statuses == out.goals.trackers and out.publication.stamp_ns == now
+    assert all(t.destruction_time_ns != 0 for t in out.removed)
     assert publish_status(out.goals, now).removed == ()
 
 
 def test_expiry_boundary_is_strict() -> None:
-    t = GoalTracker("a", S, GoalStatus.SUCCEEDED, destruction_time=S, serial=1)
+    t = GoalTracker("a", S, GoalStatus.SUCCEEDED, destruction_time_ns=S, serial=1)
     goals = ServerGoals((t,))
-    assert goals.status_list_timeout == STATUS_LIST_TIMEOUT_NS
+    assert goals.status_list_timeout_ns == STATUS_LIST_TIMEOUT_NS
     assert publish_status(goals, 6 * S).removed == ()
     assert publish_status(goals, 6 * S + 1).removed == (t,)
     # a terminal transition at time 0 leaves destruction_time "unset": never pruned (as ROS)
-    zero = GoalTracker("z", 0, GoalStatus.SUCCEEDED, destruction_time=0, serial=2)
+    zero = GoalTracker("z", 0, GoalStatus.SUCCEEDED, destruction_time_ns=0, serial=2)
     assert not is_expired(zero, 10**15, STATUS_LIST_TIMEOUT_NS)
 
 
@@ -320,7 +337,7 @@ class ServerBookkeeping(RuleBasedStateMachine):
 
     @rule(req=requests)
     def cancel(self, req: CancelRequest) -> None:
-        self.max_stamp = max(self.max_stamp, req.stamp)
+        self.max_stamp = max(self.max_stamp, req.stamp_ns)
         out = receive_cancel(self.goals, req, self.now)
         for gid in out.cancel_requested:
             t = next(t for t in out.goals.trackers if t.goal_id == gid)
@@ -336,7 +353,7 @@ class ServerBookkeeping(RuleBasedStateMachine):
         out = apply_goal_event(self.goals, current, event, self.now)
         assert out.transition.before is current.status
         if out.transition.terminal:
-            assert out.tracker.destruction_time == self.now
+            assert out.tracker.destruction_time_ns == self.now
         self.goals = out.goals
 
     @rule(dt=st.sampled_from([1, S // 10, S, 3 * S]))
@@ -352,7 +369,7 @@ class ServerBookkeeping(RuleBasedStateMachine):
     @invariant()
     def bookkeeping_is_sound(self) -> None:
         g = self.goals
-        assert g.last_cancel == self.max_stamp
+        assert g.last_cancel_ns == self.max_stamp
         serials = [t.serial for t in g.trackers]
         assert serials == sorted(set(serials)) and all(0 < s <= g.created for s in serials)
         for t in g.trackers:
@@ -360,7 +377,7 @@ class ServerBookkeeping(RuleBasedStateMachine):
             if t.is_placeholder:
                 assert t.status in (GoalStatus.RECALLING, GoalStatus.RECALLED)
             if t.status in TERMINAL_STATUSES and t.status is not GoalStatus.RECALLED:
-                assert t.destruction_time != 0 or self.now == 0
+                assert t.destruction_time_ns != 0 or self.now == 0
 
 
 TestServerBookkeeping = ServerBookkeeping.TestCase
@@ -373,7 +390,7 @@ TestServerBookkeeping.settings = settings(max_examples=60, stateful_step_count=3
 def test_goal_id_formats_and_counters() -> None:
     srv = GoalIdGenerator("/fib")
     assert srv.generate_id(5 * S + 5000) == ("/fib-1-5.5000", 5 * S + 5000)
-    assert srv.generate_id(Time(7, 123)).id == "/fib-2-7.123"
+    assert srv.generate_id(7 * S + 123).id == "/fib-2-7.123"
     assert srv.count == 2
     cli = GoalIdGenerator("/client", GoalIdStyle.CLIENT)
     assert cli.generate_id(5 * S + 5000).id == "/client-1-5.000"

@@ -61,7 +61,8 @@ def test_status_frequency_and_list_timeout_parameters(world: ddes.World) -> None
     world.params.set_param("/reference_action/status_list_timeout", 1.0)
     server, _ = up(world)
     assert server.server.status_frequency == 2.0
-    assert server.server.status_list_timeout == 1_000_000_000
+    assert server.server.status_list_timeout_ns == 1_000_000_000
+    assert server.server.status_list_timeout == ddes.Duration(1)  # rospy's attribute
     world.run(until=1.6)
     fires = [e.t for e in world.trace.filter(kind="timer.fire", source="/ref_server")]
     assert fires == [500_000_000, 1_000_000_000, 1_500_000_000]

@@ -107,3 +107,15 @@ def test_node_failure_is_reported(tmp_path: Path, capsys: pytest.CaptureFixture[
     code, _, err = run(capsys, "run", str(path))
     assert code == 1
     assert err == "ERROR: ValueError raised while the world ran: boom\n"
+
+
+def test_until_is_seconds_as_world_run_takes_them(tmp_path: Path) -> None:
+    """``--until`` goes through ddes.time.units like ``world.run(until=...)`` (truncated to ns)."""
+    from ddes.cli.run import run_launch, run_scenario
+    from ddes.time.units import to_ns
+
+    path = tmp_path / "chat.py"
+    path.write_text(SCENARIO)
+    assert run_scenario(path, until=1.2, out=lambda _line: None).now == to_ns(1.2)
+    launch = BUNDLED_PATH / "rospy_tutorials" / "launch" / "param_talker.launch"
+    assert run_launch([str(launch)], until=1.2, out=lambda _line: None).now == to_ns(1.2)

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from ddes.console.shell import Console, run_script
 from ddes.cli.main import main
+from ddes.console.shell import Console, run_script
 from ddes.errors import ROSConsoleError
 
 LECTURE_1 = """\

@@ -9,8 +9,8 @@ from typing import Any
 import pytest
 import yaml
 
-from ddes.console.shell import Console
 from ddes.console.rosparam import dump_text, get_text, pretty_text
+from ddes.console.shell import Console
 
 
 def test_fresh_core_parameters(console: Console) -> None:

@@ -7,8 +7,8 @@ from typing import Any
 
 import pytest
 
-from ddes.console.shell import Console
 from ddes.console.rostopic_live import TopicHz, format_hz, strify_for_echo, value_transform_factory
+from ddes.console.shell import Console
 from ddes.console.toolkit import node_uri
 from ddes.msg import get_message_class, serialize_message
 
@@ -127,6 +127,17 @@ def test_echo_duration_on_a_topic_that_appears(console: Console) -> None:
     console.run("rosrun --quiet rospy_tutorials talker")
     out = console.run("sleep 0.35")
     assert out.count("---") >= 2 and 'data: "hello world 0.2"' in out
+
+
+def test_duration_is_seconds_as_the_world_takes_them(chat: Console) -> None:
+    """``--duration S`` and ``sleep S`` both go through ddes.time.units (truncated to ns)."""
+    from ddes.time.units import to_ns
+
+    start = chat.world.now
+    chat.run("rostopic echo --duration 1.2 /chatter")
+    assert chat.world.now == start + to_ns(1.2)
+    chat.run("sleep 1.2")
+    assert chat.world.now == start + 2 * to_ns(1.2)
 
 
 def test_echo_unknown_topic_is_an_error_without_duration(console: Console) -> None:

@@ -11,12 +11,6 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ddes.errors import (
-    DdesKeyError,
-    DdesTypeError,
-    DdesValueError,
-    DynamicReconfigureCallbackException,
-)
 from ddes.dynamic_reconfigure.core import (
     ALL_LEVELS,
     Config,
@@ -31,6 +25,12 @@ from ddes.dynamic_reconfigure.core import (
     int_t,
     reconfigure_namespace,
     str_t,
+)
+from ddes.errors import (
+    DdesKeyError,
+    DdesTypeError,
+    DdesValueError,
+    DynamicReconfigureCallbackException,
 )
 
 

@@ -8,9 +8,9 @@ from typing import Any
 import pytest
 
 import ddes
-from ddes.errors import DynamicReconfigureCallbackException
 from ddes.dynamic_reconfigure.core import ParameterGenerator, bool_t, double_t, int_t
 from ddes.dynamic_reconfigure.server import DynamicReconfigureServer, config_to_message
+from ddes.errors import DynamicReconfigureCallbackException
 from ddes.msg import get_message_class, get_service_class
 from ddes.services import ServiceProxy
 

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from ddes import Time, World
-from ddes.console.shell import Console
 from ddes.cli.main import main
+from ddes.console.shell import Console
 from ddes.console.tooling import ToolContext, run_command, run_command_result
 from ddes.errors import ROSConsoleError
 from ddes.rosbag import Bag
@@ -165,6 +165,14 @@ def test_record_and_play_in_a_console(tmp_path: Path) -> None:
     console.run("sleep 2")
     assert "rosbag play -l -q" in console.run("jobs")
     console.run("kill %3")
+
+
+def test_rostopic_echo_shows_the_fields_of_played_messages(bag_file: str) -> None:
+    """The player's publishers carry raw bytes; rostopic takes the type's real class."""
+    context = ctx()
+    assert run_command_result(context, f"rosbag play -q {bag_file} &").code == 0
+    echoed = run_command_result(context, "rostopic echo -n 2 /s")
+    assert (echoed.code, echoed.out) == (0, 'data: "s0"\n---\ndata: "s1"\n---\n')
 
 
 def test_record_and_play_option_errors(tmp_path: Path) -> None:

@@ -305,3 +305,15 @@ def test_set_rate_and_interrupt(world: World) -> None:
     p2.process.interrupt("kill")
     other.run(2.0)
     assert p2.done.triggered and p2.node.is_shutdown() and p2.published == 1
+
+
+def test_seconds_and_hz_are_taken_as_rosbag_cpp_takes_them() -> None:
+    """Seconds round to the nearest ns (ros::Duration(double)); the /clock tick is
+    WallDuration(1.0 / hz), rounded half away from zero."""
+    world = World()
+    player = Player(world, bag_at(0.0, 2.0, 3.0, 5.0), delay=1.2, start=1.2, duration=1.2,
+                    skip_empty=1.2, hz=1024.0)
+    assert player._delay_ns == player._skip_ns == 1_200_000_000
+    assert player._initial - player._full_begin == 1_200_000_000
+    assert player._finish is not None and player._finish - player._initial == 1_200_000_000
+    assert player._tick_ns == 976_563  # 976562.5 ns, rounded up as roscpp does

@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from ddes import Time, World
+from ddes import Duration, Time, World
 from ddes.errors import DdesValueError, ROSBagException, ROSBagUnindexedException
 from ddes.msg import get_message_class
 from ddes.rosbag import Bag, Recorder, bag_filename
@@ -279,3 +279,15 @@ def test_stopping_before_the_start_is_clean(tmp_path: Path) -> None:
     assert rec.stop_reason == "stopped" and rec.start_time is None
     assert Bag(str(tmp_path / "early.bag")).get_message_count() == 0
     assert not rec.process.is_alive
+
+
+def test_durations_are_taken_as_rosbag_cpp_takes_them() -> None:
+    """ros::Duration(double) rounds to the nearest ns (ddes.time.units truncates, as genpy)."""
+    assert parse_duration("1.2") == parse_duration(1.2) == parse_duration("0.02m") == 1_200_000_000
+    assert parse_duration(Duration(1, 200_000_000)) == 1_200_000_000
+    world = World()
+    talker(world, hz=10.0)
+    rec = Recorder(world, ["/chatter"], duration=1.2, in_memory=True)
+    world.run(3.0)
+    # the message exactly 1.2 s after the start is kept, as rosbag record keeps it
+    assert [round(t, 3) for _, t in data_times(rec.bag)][-1] == 1.2

@@ -473,8 +473,8 @@ class TestStatsAndTrace:
             "service": "/s", "calls": 3, "succeeded": 2, "failed": 1, "in_flight": 0,
             "errors": {"unavailable": 0, "connect": 0, "server": 1, "transport": 0, "closed": 0,
                        "timeout": 0, "interrupted": 0},
-            "served": 3, "discarded": 0, "latency_min": 2 * L, "latency_max": 4 * L,
-            "latency_mean": 3 * L,
+            "served": 3, "discarded": 0, "latency_min_ns": 2 * L, "latency_max_ns": 4 * L,
+            "latency_mean_ns": 3 * L,
         }
         with pytest.raises(ddes.errors.ROSServiceException, match=r"no statistics for service \[s\]"):
             world.service_stats("s")

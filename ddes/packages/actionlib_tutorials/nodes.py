@@ -21,18 +21,23 @@ action names, goals and log texts, on simulated time.
 from __future__ import annotations
 
 import math
-from collections.abc import Generator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ddes.actionlib import GoalStatus, SimpleActionClient, SimpleActionServer
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
 
+if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
+
+    from ddes.graph.node import Node
+    from ddes.msg.message import Message
+
 
 class FibonacciServer:
     """``FibonacciAction`` of scripts/fibonacci_server.py."""
 
-    def __init__(self, node: Any, name: str) -> None:
+    def __init__(self, node: Node, name: str) -> None:
         self.node = node
         self._feedback = get_message_class("actionlib_tutorials/FibonacciFeedback")()
         self._result = get_message_class("actionlib_tutorials/FibonacciResult")()
@@ -42,7 +47,7 @@ class FibonacciServer:
                                       execute_cb=self.execute_cb, auto_start=False)
         self._as.start()
 
-    def execute_cb(self, goal: Any) -> Generator[Any, Any, None]:
+    def execute_cb(self, goal: Message) -> ProcessGenerator:
         node = self.node
         r = node.create_rate(1)
         success = True
@@ -66,12 +71,12 @@ class FibonacciServer:
             self._as.set_succeeded(self._result)
 
 
-def fibonacci_server(node: Any) -> None:
+def fibonacci_server(node: Node) -> None:
     """Serve the ``fibonacci`` action under the node's name (then spin)."""
     FibonacciServer(node, node.get_name())
 
 
-def fibonacci_client(node: Any) -> Generator[Any, Any, Any]:
+def fibonacci_client(node: Node) -> ProcessGenerator:
     """Send ``FibonacciGoal(order=20)``, wait for the result and log it."""
     client = SimpleActionClient(node, "fibonacci",
                                 get_message_class("actionlib_tutorials/FibonacciAction"))
@@ -87,7 +92,7 @@ def fibonacci_client(node: Any) -> Generator[Any, Any, Any]:
 class AveragingServer:
     """``AveragingAction`` of src/averaging_server.cpp."""
 
-    def __init__(self, node: Any, name: str) -> None:
+    def __init__(self, node: Node, name: str) -> None:
         self.node = node
         self.action_name = name
         self.feedback = get_message_class("actionlib_tutorials/AveragingFeedback")()
@@ -112,7 +117,7 @@ class AveragingServer:
         self.node.loginfo("%s: Preempted", self.action_name)
         self.as_.set_preempted()
 
-    def analysis_cb(self, msg: Any) -> None:
+    def analysis_cb(self, msg: Message) -> None:
         if not self.as_.is_active():
             return
         self.data_count += 1
@@ -135,12 +140,12 @@ class AveragingServer:
                 self.as_.set_succeeded(self.result)
 
 
-def averaging_server(node: Any) -> None:
+def averaging_server(node: Node) -> None:
     """Serve the ``averaging`` action under the node's name (then spin)."""
     AveragingServer(node, node.get_name())
 
 
-def averaging_client(node: Any) -> Generator[Any, Any, int]:
+def averaging_client(node: Node) -> ProcessGenerator:
     """Ask for the average of 100 samples; wait up to 30 s; log the final state."""
     ac = SimpleActionClient(node, "averaging",
                             get_message_class("actionlib_tutorials/AveragingAction"))
@@ -158,7 +163,7 @@ def averaging_client(node: Any) -> Generator[Any, Any, int]:
     return 0
 
 
-def gen_numbers(node: Any) -> Generator[Any, Any, None]:
+def gen_numbers(node: Node) -> ProcessGenerator:
     """Publish N(5, 1) samples on ``random_number`` every 0.05 s (seeded per world and node)."""
     pub = node.advertise("random_number", get_message_class("std_msgs/Float32"))
     rng = node.world.rng_for(f"gen_numbers:{node.name}")

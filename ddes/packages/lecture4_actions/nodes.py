@@ -25,17 +25,22 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Generator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ddes.actionlib import GoalStatus, SimpleActionClient, SimpleActionServer
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
 
+if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
+
+    from ddes.graph.node import Node
+    from ddes.msg.message import Message
+
 ACTION = "lecture4_actions/FollowPathAction"
 
 
-def path_length(path: Any) -> float:
+def path_length(path: Message) -> float:
     """Length of the polyline through the poses of a ``nav_msgs/Path`` (m)."""
     pts = [(p.pose.position.x, p.pose.position.y) for p in path.poses]
     return sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
@@ -44,7 +49,7 @@ def path_length(path: Any) -> float:
 class FollowPathServer:
     """The ``follow_path`` action server of ``follow_path_server``."""
 
-    def __init__(self, node: Any, name: str = "follow_path") -> None:
+    def __init__(self, node: Node, name: str = "follow_path") -> None:
         self.node = node
         self.name = name
         self.speed = float(node.get_param("~speed", 0.5))
@@ -55,7 +60,7 @@ class FollowPathServer:
                                          execute_cb=self.execute, auto_start=False)
         self.server.start()
 
-    def execute(self, goal: Any) -> Generator[Any, Any, None]:
+    def execute(self, goal: Message) -> ProcessGenerator:
         node, server = self.node, self.server
         total = path_length(goal.path)
         if len(goal.path.poses) < 2 or total == 0.0:
@@ -81,12 +86,12 @@ class FollowPathServer:
         server.set_succeeded(self.Result(success=True))
 
 
-def follow_path_server(node: Any) -> None:
+def follow_path_server(node: Node) -> None:
     """Serve ``follow_path`` (then spin)."""
     FollowPathServer(node)
 
 
-def square_path(side: float, frame: str = "odom") -> Any:
+def square_path(side: float, frame: str = "odom") -> Message:
     """A closed square path of ``side`` metres starting at the origin."""
     Path = get_message_class("nav_msgs/Path")
     PoseStamped = get_message_class("geometry_msgs/PoseStamped")
@@ -101,7 +106,7 @@ def square_path(side: float, frame: str = "odom") -> Any:
     return path
 
 
-def follow_path_client(node: Any) -> Generator[Any, Any, int]:
+def follow_path_client(node: Node) -> ProcessGenerator:
     """Send a square path, log feedback, optionally cancel after ``~cancel_after`` s."""
     client = SimpleActionClient(node, "follow_path", get_message_class(ACTION))
     side = float(node.get_param("~side", 2.0))
@@ -110,7 +115,7 @@ def follow_path_client(node: Any) -> Generator[Any, Any, int]:
     yield client.wait_for_server()
     goal = get_message_class("lecture4_actions/FollowPathGoal")(path=square_path(side))
 
-    def feedback_cb(fb: Any) -> None:
+    def feedback_cb(fb: Message) -> None:
         node.loginfo_throttle(1.0, "remaining %.2f of %.2f m", fb.remaining_distance,
                               fb.initial_distance)
 

@@ -8,15 +8,20 @@ as roscpp prints them (``[ INFO] [secs.nsecs]: ...``).
 
 from __future__ import annotations
 
-from collections.abc import Generator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
 from ddes.services import Service
 
+if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
 
-def talker(node: Any) -> Generator[Any, Any, None]:
+    from ddes.graph.node import Node
+    from ddes.msg.message import Message
+
+
+def talker(node: Node) -> ProcessGenerator:
     """Publish ``hello world <count>`` on ``chatter`` at 10 Hz, logging each (ROS_INFO)."""
     string = get_message_class("std_msgs/String")
     chatter_pub = node.advertise("chatter", string, queue_size=1000)
@@ -31,21 +36,21 @@ def talker(node: Any) -> Generator[Any, Any, None]:
         count += 1
 
 
-def listener(node: Any) -> None:
+def listener(node: Node) -> None:
     """Log ``I heard: [<data>]`` for every message on ``chatter`` (then ros::spin())."""
     string = get_message_class("std_msgs/String")
 
-    def chatter_callback(msg: Any) -> None:
+    def chatter_callback(msg: Message) -> None:
         node.loginfo("I heard: [%s]", msg.data)
 
     node.subscribe("chatter", string, chatter_callback, queue_size=1000)
 
 
-def add_two_ints_server(node: Any) -> None:
+def add_two_ints_server(node: Node) -> None:
     """Serve ``add_two_ints`` (roscpp_tutorials/TwoInts) with a bool callback (then ros::spin())."""
     from ddes.msg import get_service_class
 
-    def add(req: Any, res: Any) -> bool:
+    def add(req: Message, res: Message) -> bool:
         res.sum = req.a + req.b
         node.loginfo("request: x=%ld, y=%ld", req.a, req.b)
         node.loginfo("sending back response: [%ld]", res.sum)
@@ -65,7 +70,7 @@ def _atoll(text: str) -> int:
     return max(-(2**63), min(2**63 - 1, int(m.group(1))))
 
 
-def add_two_ints_client(node: Any) -> Generator[Any, Any, int]:
+def add_two_ints_client(node: Node) -> ProcessGenerator:
     """``add_two_ints_client X Y``: call ``add_two_ints`` once, log ``Sum: <X+Y>``; exit code 1 on failure."""
     from ddes.msg import get_service_class
     from ddes.services import ServiceClient

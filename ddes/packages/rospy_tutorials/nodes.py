@@ -7,15 +7,20 @@ Each mirrors the script of the same name in ros/ros_tutorials
 
 from __future__ import annotations
 
-from collections.abc import Generator
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
 from ddes.services import Service
 
+if TYPE_CHECKING:
+    from simpy.events import ProcessGenerator
 
-def talker(node: Any) -> Generator[Any, Any, None]:
+    from ddes.graph.node import Node
+    from ddes.msg.message import Message
+
+
+def talker(node: Node) -> ProcessGenerator:
     """Publish ``hello world <rospy.get_time()>`` on ``chatter`` at 10 Hz, logging each."""
     string = get_message_class("std_msgs/String")
     pub = node.advertise("chatter", string, queue_size=10)
@@ -27,17 +32,17 @@ def talker(node: Any) -> Generator[Any, Any, None]:
         yield rate.sleep()
 
 
-def listener(node: Any) -> None:
+def listener(node: Node) -> None:
     """Log ``<caller id>I heard <data>`` for every message on ``chatter`` (then spin)."""
     string = get_message_class("std_msgs/String")
 
-    def callback(data: Any) -> None:
+    def callback(data: Message) -> None:
         node.loginfo(node.get_name() + "I heard %s", data.data)
 
     node.subscribe("chatter", string, callback)
 
 
-def add_two_ints_server(node: Any) -> None:
+def add_two_ints_server(node: Node) -> None:
     """Serve ``add_two_ints`` (rospy_tutorials/AddTwoInts), logging ``Returning [a + b = sum]``.
 
     As ``005_add_two_ints/add_two_ints_server``; its ``print`` lines are
@@ -47,14 +52,14 @@ def add_two_ints_server(node: Any) -> None:
 
     add_two_ints = get_service_class("rospy_tutorials/AddTwoInts")
 
-    def handle(req: Any) -> Any:
+    def handle(req: Message) -> Message:
         node.loginfo("Returning [%s + %s = %s]", req.a, req.b, (req.a + req.b))
         return add_two_ints._response_class(req.a + req.b)
 
     Service(node, "add_two_ints", add_two_ints, handle)
 
 
-def _add_two_ints(node: Any, x: int, y: int) -> Generator[Any, Any, Any]:
+def _add_two_ints(node: Node, x: int, y: int) -> ProcessGenerator:
     from ddes.errors import ServiceException
     from ddes.msg import get_service_class
     from ddes.services import ServiceProxy, wait_for_service
@@ -76,7 +81,7 @@ def _add_two_ints(node: Any, x: int, y: int) -> Generator[Any, Any, Any]:
         return None
 
 
-def add_two_ints_client(node: Any) -> Generator[Any, Any, int]:
+def add_two_ints_client(node: Node) -> ProcessGenerator:
     """``add_two_ints_client [x y]``: wait for ``add_two_ints``, call it twice, log ``x + y = sum``.
 
     Without arguments x and y are drawn in [-50000, 50000] from the world's
@@ -104,7 +109,7 @@ def add_two_ints_client(node: Any) -> Generator[Any, Any, int]:
     return 0
 
 
-def param_talker(node: Any) -> Generator[Any, Any, None]:
+def param_talker(node: Node) -> ProcessGenerator:
     """Read global, relative, private and default parameters, set some, then publish ``utterance`` at 1 Hz."""
     string = get_message_class("std_msgs/String")
     global_example = node.get_param("/global_example")
