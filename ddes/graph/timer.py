@@ -22,7 +22,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ddes.errors import DdesValueError
-from ddes.kernel.events import now_of, post
+from ddes.kernel.events import post
 from ddes.time.rostime import Duration, Time
 from ddes.time.units import DurationLike, duration_to_ns
 
@@ -190,7 +190,7 @@ class Timer:
         if not (cbq.free and not self.cb_active):
             cbq.enqueue(self._run, (), self, self._done)
             return
-        now: int = now_of(self._env)
+        now = ev.at_ns
         nxt = self._next
         self._started = now
         event = TimerEvent.__new__(TimerEvent)
@@ -201,7 +201,23 @@ class Timer:
         event.last_duration = self._last_duration
         self.fires += 1
         self._trace.append_row((now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
-        cbq.run(self._callback, (event,), self, self._done)
+        if not cbq.run1(self._callback, event, self, self._done):
+            return  # it failed (on_done ran) or goes on as a generator (on_done at its end)
+        # Finished at once: roscpp's TimerManager::updateNext, as in _done, without the call.
+        self._last_duration = 0.0
+        self._last_real_ns = now
+        if self._oneshot or not self._alive:
+            self._done()
+            return
+        period = self._period
+        if nxt <= now:
+            self._last_expected_ns = nxt
+            nxt += period
+            if nxt + period < now:
+                nxt = now
+            self._next = nxt
+        self._gen += 1
+        self._armed = post(self._env, nxt - now if nxt > now else 0, self._gen, self._fire_cb)
 
     def _fire_gen(self, gen: int) -> None:
         if gen != self._gen or not self._alive:
@@ -226,7 +242,7 @@ class Timer:
 
     def _done(self) -> None:
         env = self._env
-        now: int = now_of(env) if self._kernel else self._clock.now_ns()
+        now: int = env.now if self._kernel else self._clock.now_ns()
         started = self._started
         self._last_duration = (now - started) / 1e9
         self._last_real_ns = started

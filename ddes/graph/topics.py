@@ -35,7 +35,7 @@ from ddes.errors import (
     ROSException,
     ROSSerializationException,
 )
-from ddes.kernel.events import now_of, payload_of, post
+from ddes.kernel.events import post
 from ddes.msg.anymsg import AnyMsg
 from ddes.time.units import DurationLike, duration_to_ns
 
@@ -205,7 +205,7 @@ class Connection:
         self._sent += 1
         world = self.world
         env = world.env
-        now: int = now_of(env)
+        now: int = env.now
         if self._loss and self._rng is not None and self._rng.random() < self._loss:
             self.lost += 1
             world.trace.append_row((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
@@ -223,17 +223,18 @@ class Connection:
     def _arrive(self, ev: Posted[tuple[bytes, int]]) -> None:
         if self.closed:
             return
-        data, seq = payload_of(ev)
+        data, seq = ev.payload
         self.received += 1
-        self.sub._receive(self, data, seq)
+        self.sub._receive(self, data, seq, ev.at_ns)
 
 
 def _arrive_batch(ev: Posted[tuple[bytes, int, list[Connection]]]) -> None:
-    data, seq, conns = payload_of(ev)
+    data, seq, conns = ev.payload
+    now = ev.at_ns
     for conn in conns:
         if not conn.closed:
             conn.received += 1
-            conn.sub._receive(conn, data, seq)
+            conn.sub._receive(conn, data, seq, now)
 
 
 class Publisher(Generic[_C_co]):
@@ -305,7 +306,7 @@ class Publisher(Generic[_C_co]):
         if self.latch:
             self._latched = data
         env = self._env
-        self._trace.append_row((now_of(env), "topic.publish", self._node_name, _PUB_KEYS,
+        self._trace.append_row((env.now, "topic.publish", self._node_name, _PUB_KEYS,
                                 self.resolved_name, seq, self._nconn))
         for delay, conns in self._fanout:
             post(env, delay, (data, seq, conns), _arrive_batch)
@@ -397,7 +398,7 @@ class Subscriber(Generic[_C_co]):
         self.world.master.register_subscriber(self)
         self.world.record("topic.subscribe", node.name, topic=self.resolved_name, type=self.type)
 
-    def _receive(self, conn: Connection, data: bytes, seq: int) -> None:
+    def _receive(self, conn: Connection, data: bytes, seq: int, now: int) -> None:
         if self._closed:
             return
         if self._any:
@@ -409,12 +410,14 @@ class Subscriber(Generic[_C_co]):
         if self._internal or (cbq.free and not self._queue and not self.cb_active):
             # The spinner is free: deliver now, through the node's runner.
             conn.delivered += 1
-            self._trace.append_row((now_of(self._env), "topic.deliver", self._node_name,
+            self._trace.append_row((now, "topic.deliver", self._node_name,
                                     _DELIVER_KEYS, self.resolved_name, conn.pub_name, seq))
             cb = self.callback
             if cb is not None:
-                cbq.run(cb, (msg,) if self.callback_args is None else (msg, self.callback_args),
-                        self)
+                if self.callback_args is None:
+                    cbq.run1(cb, msg, self)
+                else:
+                    cbq.run(cb, (msg, self.callback_args), self)
             return
         q = self._queue
         q.append((conn, msg, seq))
@@ -432,7 +435,7 @@ class Subscriber(Generic[_C_co]):
             return None
         conn, msg, seq = self._queue.popleft()
         conn.delivered += 1
-        self._trace.append_row((now_of(self._env), "topic.deliver", self._node_name, _DELIVER_KEYS,
+        self._trace.append_row((self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
                                  self.resolved_name, conn.pub_name, seq))
         cb = self.callback
         if cb is None:

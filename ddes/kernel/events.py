@@ -21,13 +21,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from heapq import heappush
-from operator import attrgetter
-from typing import TYPE_CHECKING, Generic, TypeVar
+from typing import Generic, TypeVar
 
 import simpy
 from simpy.events import NORMAL, PENDING, Event, Timeout
 
-__all__ = ["NsEnvironment", "Posted", "is_pending", "now_of", "payload_of", "post", "queued_events"]
+__all__ = ["NsEnvironment", "Posted", "is_pending", "post", "queued_events"]
 
 _V = TypeVar("_V")
 _V_co = TypeVar("_V_co", covariant=True)
@@ -42,42 +41,35 @@ class NsEnvironment(simpy.Environment):
         return self._now  # type: ignore[return-value]  # every delay ddes schedules is an int
 
 
-if TYPE_CHECKING:
+class Posted(Timeout, Generic[_V_co]):
+    """The event :func:`post` schedules: a Timeout that also carries, as plain slots,
+    ``payload`` (the posted value, also its ``value``) and ``at_ns`` (when it fires).
 
-    class Posted(Timeout, Generic[_V_co]):
-        """The event :func:`post` schedules: a Timeout whose ``value`` is the posted value."""
+    Its callbacks read ``ev.payload`` and ``ev.at_ns`` — attribute loads, no
+    property call — on the hot paths (deliveries, timer fires, service hops).
+    """
 
-        @property
-        def value(self) -> _V_co: ...
+    __slots__ = ("payload", "at_ns")
+    payload: _V_co  # written once, by post()
+    at_ns: int
 
-    def now_of(env: simpy.Environment) -> int: ...
 
-    def payload_of(event: Posted[_V]) -> _V: ...
-
-else:
-    Posted = Timeout  # only type checkers tell the value's type
-
-    #: ``now_of(env)`` is ``env.now`` for the hot paths: one C call instead of a Python property.
-    now_of = attrgetter("_now")
-
-    #: ``payload_of(event)`` is the value of a :func:`post` event (always triggered), as one C
-    #: call instead of the ``value`` property.
-    payload_of = attrgetter("_value")
+_new_posted = Posted.__new__
 
 
 def post(env: simpy.Environment, delay: int, value: _V,
          callback: Callable[[Posted[_V]], object]) -> Posted[_V]:
-    """Schedule ``callback(event)`` after ``delay`` ns (>= 0); ``event.value == value``."""
-    ev = Timeout.__new__(Timeout)
+    """Schedule ``callback(event)`` after ``delay`` ns (>= 0); ``event.payload == value``."""
+    ev: Posted[_V] = _new_posted(Posted)
     ev.env = env
-    # ev is the Posted[_V] the callback gets (its value is ``value``); SimPy ignores what
-    # callbacks return.
-    ev.callbacks = [callback]  # type: ignore[list-item]
-    ev._value = value
+    ev.callbacks = [callback]  # type: ignore[list-item]  # SimPy ignores what callbacks return
+    ev._value = ev.payload = value
     ev._delay = delay
     ev._ok = True
-    heappush(env._queue, (env._now + delay, NORMAL, next(env._eid), ev))
-    return ev  # type: ignore[return-value]  # see above
+    at: int = env._now + delay  # type: ignore[assignment]  # every delay ddes schedules is an int
+    ev.at_ns = at
+    heappush(env._queue, (at, NORMAL, next(env._eid), ev))
+    return ev
 
 
 def is_pending(event: Event) -> bool:

@@ -182,7 +182,7 @@ class ServiceProxy:
 
     def _on_header(self, ev: Posted[tuple[ServiceConnection, Service]]) -> None:
         """The connection header reached the server: accepted or refused."""
-        conn, server = ev.value
+        conn, server = ev.payload
         if conn.closed:
             return  # the client gave up before connecting
         waiting = [call for call in conn.waiting if not call.done]
@@ -201,7 +201,7 @@ class ServiceProxy:
             self._send_request(conn, call, now + back)
 
     def _on_refused(self, ev: Posted[tuple[list[PendingCall], str]]) -> None:
-        waiting, error = ev.value
+        waiting, error = ev.payload
         for call in waiting:
             if not call.done:
                 call.fail("connect", ServiceException(f"unable to connect to service: {error}"))
@@ -217,7 +217,7 @@ class ServiceProxy:
         post(self.world.env, at - now, (conn, call), self._on_request)
 
     def _on_request(self, ev: Posted[tuple[ServiceConnection, PendingCall]]) -> None:
-        conn, call = ev.value
+        conn, call = ev.payload
         if 0 <= call.gave_up_at < call.sent_at:
             return  # the client gave up before the request was sent
         conn.server._on_request(conn, call)
@@ -233,7 +233,7 @@ class ServiceProxy:
         post(self.world.env, at - now, (call, ok, payload), self._on_response)
 
     def _on_response(self, ev: Posted[tuple[PendingCall, bool, bytes | str]]) -> None:
-        call, ok, payload = ev.value
+        call, ok, payload = ev.payload
         if call.done:
             call.stats.discarded += 1
             world = self.world
@@ -255,7 +255,7 @@ class ServiceProxy:
         post(self.world.env, conn.link.sample_ns(), call, self._on_transport_error)
 
     def _on_transport_error(self, ev: Posted[PendingCall]) -> None:
-        call = ev.value
+        call = ev.payload
         if not call.done:
             call.fail("transport", ServiceException(_TRANSPORT_ERROR))
 
