@@ -169,7 +169,7 @@ class Timer:
         self._gen += 1
         gen = self._gen
         if self._kernel:
-            delay = self._next - self._env.now
+            delay = self._next - self._env.now_ns
             self._armed = post(self._env, delay if delay > 0 else 0, gen, self._fire_cb)
         else:
             ev = self._clock.wait_until(self._next)
@@ -237,12 +237,12 @@ class Timer:
         event._cr = now
         event.last_duration = self._last_duration
         self.fires += 1
-        self._trace.append_row((self._env.now, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
+        self._trace.append_row((self._env.now_ns, "timer.fire", self._source, _FIRE_KEYS, nxt, now))
         return self._callback(event)
 
     def _done(self) -> None:
         env = self._env
-        now: int = env.now if self._kernel else self._clock.now_ns()
+        now: int = env.now_ns if self._kernel else self._clock.now_ns()
         started = self._started
         self._last_duration = (now - started) / 1e9
         self._last_real_ns = started

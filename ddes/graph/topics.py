@@ -205,7 +205,7 @@ class Connection:
         self._sent += 1
         world = self.world
         env = world.env
-        now: int = env.now
+        now: int = env.now_ns
         if self._loss and self._rng is not None and self._rng.random() < self._loss:
             self.lost += 1
             world.trace.append_row((now, "topic.drop", self.sub.node.name, _DROP_KEYS,
@@ -306,7 +306,7 @@ class Publisher(Generic[_C_co]):
         if self.latch:
             self._latched = data
         env = self._env
-        self._trace.append_row((env.now, "topic.publish", self._node_name, _PUB_KEYS,
+        self._trace.append_row((env.now_ns, "topic.publish", self._node_name, _PUB_KEYS,
                                 self.resolved_name, seq, self._nconn))
         for delay, conns in self._fanout:
             post(env, delay, (data, seq, conns), _arrive_batch)
@@ -425,7 +425,7 @@ class Subscriber(Generic[_C_co]):
         if qs is not None and len(q) > qs:
             old_conn, _old, old_seq = q.popleft()
             old_conn.dropped += 1
-            self._trace.append_row((self._env.now, "topic.drop", self._node_name, _DROP_KEYS,
+            self._trace.append_row((self._env.now_ns, "topic.drop", self._node_name, _DROP_KEYS,
                                      self.resolved_name, old_conn.pub_name, old_seq, "queue_full"))
         cbq.enqueue(self._call_queued, (), self)
 
@@ -435,7 +435,7 @@ class Subscriber(Generic[_C_co]):
             return None
         conn, msg, seq = self._queue.popleft()
         conn.delivered += 1
-        self._trace.append_row((self._env.now, "topic.deliver", self._node_name, _DELIVER_KEYS,
+        self._trace.append_row((self._env.now_ns, "topic.deliver", self._node_name, _DELIVER_KEYS,
                                  self.resolved_name, conn.pub_name, seq))
         cb = self.callback
         if cb is None:

@@ -75,7 +75,7 @@ class Kernel:
     @property
     def now(self) -> int:
         """Kernel time in integer nanoseconds."""
-        return self.env.now
+        return self.env.now_ns
 
     def time(self) -> Time:
         """Kernel time as a :class:`Time`."""

@@ -157,7 +157,7 @@ class ServiceProxy:
             if not conn.ready:
                 conn.waiting.append(call)  # the request leaves once the header exchange is done
             else:
-                self._send_request(conn, call, world.env.now)
+                self._send_request(conn, call, world.env.now_ns)
             return call
         entry = world.master.lookup_service(name)
         if entry is None:
@@ -189,7 +189,7 @@ class ServiceProxy:
         conn.waiting = []
         error = server._accept(conn)
         back = conn.link.sample_ns()
-        now: int = self.world.env.now
+        now: int = self.world.env.now_ns
         if error is not None:
             conn.closed = True
             if self._transport is conn:
@@ -209,7 +209,7 @@ class ServiceProxy:
     def _send_request(self, conn: ServiceConnection, call: PendingCall, sent_at: int) -> None:
         """The request leaves the client at ``sent_at`` (FIFO per connection)."""
         call.sent_at = sent_at
-        now: int = self.world.env.now
+        now: int = self.world.env.now_ns
         at = sent_at + conn.link.sample_ns()
         if at < conn.last_request:
             at = conn.last_request
@@ -225,7 +225,7 @@ class ServiceProxy:
     def _send_response(self, conn: ServiceConnection, call: PendingCall, ok: bool,
                        payload: bytes | str) -> None:
         """Called by the server: the response (bytes, ``ok``) or the error text travels back."""
-        now: int = self.world.env.now
+        now: int = self.world.env.now_ns
         at = now + conn.link.sample_ns()
         if at < conn.last_response:
             at = conn.last_response
@@ -237,7 +237,7 @@ class ServiceProxy:
         if call.done:
             call.stats.discarded += 1
             world = self.world
-            world.trace.append_row((world.env.now, "service.discard", self.node.name,
+            world.trace.append_row((world.env.now_ns, "service.discard", self.node.name,
                                      _DISCARD_KEYS, self.resolved_name, call.id, self.node.name,
                                      "client gave up"))
             return
@@ -262,7 +262,7 @@ class ServiceProxy:
     def _expire(self, call: PendingCall, timeout_ns: int) -> None:
         if call.done:
             return
-        call.gave_up_at = self.world.env.now
+        call.gave_up_at = self.world.env.now_ns
         conn = call.conn
         call.fail("timeout", ServiceTimeout(
             f"service [{self.resolved_name}] call timed out after {ns_to_sec(timeout_ns):g} s of "
@@ -298,12 +298,12 @@ class ServiceProxy:
         if conn is not None and not conn.closed:
             conn.close()
             for call in self._calls_on(conn):
-                call.gave_up_at = self.world.env.now
+                call.gave_up_at = self.world.env.now_ns
                 call.fail("transport", ServiceException(_TRANSPORT_ERROR))
 
     def shutdown(self) -> None:
         """The node shut down: pending calls fail with ROSInterruptException."""
-        now: int = self.world.env.now
+        now: int = self.world.env.now_ns
         for call in list(self._pending.values()):
             if not call.done:
                 call.gave_up_at = now

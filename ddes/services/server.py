@@ -182,7 +182,7 @@ class Service:
         if conn.server_gone:
             return
         world = self.world
-        world.trace.append_row((world.env.now, "service.request", self.node.name, _REQUEST_KEYS,
+        world.trace.append_row((world.env.now_ns, "service.request", self.node.name, _REQUEST_KEYS,
                                  self.resolved_name, call.id, conn.proxy.node.name))
         cls = self.request_class
         request = cls.__new__(cls)._deserialize_from(call.data)
@@ -243,7 +243,7 @@ class Service:
             self._send(conn, call, False, server_error_text(exc, self.style))
             return
         world = self.world
-        world.trace.append_row((world.env.now, "service.exception", self.node.name,
+        world.trace.append_row((world.env.now_ns, "service.exception", self.node.name,
                                  _EXCEPTION_KEYS, self.resolved_name, call.id,
                                  f"{type(exc).__name__}: {exc}"))
         if self.style == "roscpp":
@@ -261,7 +261,7 @@ class Service:
             reason = "server shut down" if conn.server_gone else "client gave up"
             call.stats.discarded += 1
             world = self.world
-            world.trace.append_row((world.env.now, "service.discard", self.node.name,
+            world.trace.append_row((world.env.now_ns, "service.discard", self.node.name,
                                      _DISCARD_KEYS, self.resolved_name, call.id,
                                      conn.proxy.node.name, reason))
             return

@@ -99,7 +99,7 @@ class PendingCall:
         self.proxy = proxy
         self.event = event
         self.data = data
-        self.t0: int = world.env.now
+        self.t0: int = world.env.now_ns
         self.conn: ServiceConnection | None = None
         self.done = False
         #: Kernel time the client stopped waiting (timeout, shutdown), or -1.
@@ -129,7 +129,7 @@ class PendingCall:
         cls = proxy.response_class
         response = cls.__new__(cls)._deserialize_from(data)
         world = proxy.world
-        now: int = world.env.now
+        now: int = world.env.now_ns
         latency = now - self.t0
         self.stats.add_latency(latency)
         trace = world.trace
@@ -147,7 +147,7 @@ class PendingCall:
         proxy._pending.pop(self.id, None)
         self.stats.errors[reason] += 1
         world = proxy.world
-        now: int = world.env.now
+        now: int = world.env.now_ns
         world.trace.append_row((now, "service.error", proxy.node.name, _ERROR_KEYS,
                                  proxy.resolved_name, self.id, now - self.t0, reason, str(exc)))
         self.event.fail(exc)
