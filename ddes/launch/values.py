@@ -73,7 +73,8 @@ def convert_value(value: str, type_: str) -> ParamValue:
         )
     if t == "yaml":
         try:
-            return yaml.safe_load(value)
+            loaded: ParamValue = yaml.safe_load(value)
+            return loaded
         except yaml.YAMLError as exc:
             raise ROSLaunchException(f"invalid YAML value: {exc}") from None
     raise ROSLaunchException(

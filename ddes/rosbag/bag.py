@@ -502,7 +502,8 @@ class Bag:
         for name in ("get_rostime", "time"):
             fn = getattr(clock, name, None)
             if callable(fn):
-                return fn()
+                now: Time = fn()
+                return now
         if callable(clock):
             return clock()
         raise DdesTypeError(f"clock must be a node, world, clock or function, got {clock!r}")

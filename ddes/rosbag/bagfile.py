@@ -127,7 +127,7 @@ def _compress(kind: str, data: bytes) -> bytes:
     if kind == "bz2":
         return bz2.compress(data, 9)
     if kind == "lz4":
-        import lz4.frame  # type: ignore[import-untyped]
+        import lz4.frame  # type: ignore[import-untyped,unused-ignore]  # stubs vary by version
 
         return bytes(lz4.frame.compress(data, block_size=lz4.frame.BLOCKSIZE_MAX1MB,
                                         content_checksum=True, store_size=False))

@@ -84,7 +84,7 @@ def encode_mcap(connections: Mapping[int, ConnectionInfo], indexes: Mapping[int,
         writer.add_message(channel_id=channels[cid], log_time=t, data=data, publish_time=t,
                            sequence=sequence[cid])
         sequence[cid] += 1
-    writer.finish()
+    writer.finish()  # type: ignore[no-untyped-call,unused-ignore]  # mcap's writer is untyped
 
 
 def _header(channel: Channel, schema: Schema, definition: str) -> dict[str, str]:

@@ -57,6 +57,7 @@ if TYPE_CHECKING:
 
     from ddes.graph.topics import Publisher
     from ddes.graph.world import World
+    from ddes.msg.message import MessageClass
 
 __all__ = ["BagSource", "Player", "RawBytes", "raw_message_class"]
 
@@ -179,7 +180,7 @@ class Player:
         self._Clock = get_message_class("rosgraph_msgs/Clock")
         self._clock_pub = self.node.advertise("clock", self._Clock, queue_size=1)
         self._raw: dict[tuple[str, str, str], type[RawBytes]] = {}
-        self._pubs: dict[str, Publisher] = {}
+        self._pubs: dict[str, Publisher[type[RawBytes]]] = {}
         self._pub_classes: dict[str, type[RawBytes]] = {}
         for i, cid in used:
             self._advertise(self.bags[i]._connections[cid])
@@ -359,7 +360,8 @@ class Player:
         """Wait until the messages already sent have arrived, then let the node go."""
         env = self.world.env
         horizon = env.now
-        for pub in [*self._pubs.values(), self._clock_pub]:
+        pubs: list[Publisher[MessageClass]] = [*self._pubs.values(), self._clock_pub]
+        for pub in pubs:
             for conn in pub.connections:
                 horizon = max(horizon, conn._last, self._last_send_k + conn._fixed)
         yield env.timeout(horizon - env.now)

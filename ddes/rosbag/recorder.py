@@ -170,7 +170,7 @@ class Recorder:
         self.path: str | None = None if in_memory else bag_filename(
             output_prefix, output_name, world.now, tz)
         self._recording: set[str] = set()
-        self._subs: dict[str, Subscriber] = {}
+        self._subs: dict[str, Subscriber[type[AnyMsg]]] = {}
         self._counts: dict[str, int] = {}
         self._active = 0
         self._start_ns: int | None = None

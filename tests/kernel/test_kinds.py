@@ -22,7 +22,7 @@ from ddes.kernel.kinds import (
 )
 
 ROOT = Path(ddes.__file__).resolve().parent
-DOC = ROOT.parent / "docs" / "trace.md"
+DOC = Path(__file__).resolve().parents[2] / "docs" / "trace.md"
 _SKIP = {ROOT / "kernel" / "kinds.py", ROOT / "kernel" / "trace.py"}
 
 
