@@ -22,6 +22,7 @@ __all__ = [
     "DdesTypeError",
     "DdesValueError",
     "DeserializationError",
+    "DigestError",
     "DynamicReconfigureCallbackException",
     "InvalidMsgSpec",
     "MsgNotFound",
@@ -43,8 +44,11 @@ __all__ = [
     "ROSServiceException",
     "ROSTimeMovedBackwardsException",
     "ROSTopicException",
+    "ResourceLimitError",
+    "RunawayError",
     "ServiceException",
     "ServiceTimeout",
+    "UnsafeExpressionError",
     "WorldError",
 ]
 
@@ -77,6 +81,30 @@ class WorldError(DdesError):
 
 
 # --- rospy's tree (rospy/exceptions.py) -------------------------------------
+
+
+class RunawayError(WorldError):
+    """User code ran past a budget: a callback that never yields, or a zero-time livelock.
+
+    The message names the node, the callback and the simulated time, and the
+    budget that stopped it (``World(wall_budget=..., instant_budget=...)``).
+    """
+
+
+class DigestError(WorldError):
+    """A digest was asked of a trace that does not hold every event (recording off or filtered)."""
+
+
+class ResourceLimitError(DdesValueError):
+    """An input is larger, deeper or costlier than ddes allows (a bomb, or a mistake).
+
+    The message names the limit, the value that crossed it, and how to raise it
+    when the input is genuine.
+    """
+
+
+class UnsafeExpressionError(DdesValueError):
+    """An expression uses something outside ddes's safe expression subset (see docs/reliability.md)."""
 
 
 class ROSException(DdesError):

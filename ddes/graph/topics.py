@@ -62,7 +62,7 @@ __all__ = [
     "link_latency_ns",
 ]
 
-_PUB_KEYS = ("topic", "seq", "connections")
+_PUB_KEYS = ("topic", "seq", "connections", "data")
 _DELIVER_KEYS = ("topic", "publisher", "seq")
 _DROP_KEYS = ("topic", "publisher", "seq", "reason")
 
@@ -307,7 +307,7 @@ class Publisher(Generic[_C_co]):
             self._latched = data
         env = self._env
         self._trace.append_row((env.now_ns, "topic.publish", self._node_name, _PUB_KEYS,
-                                self.resolved_name, seq, self._nconn))
+                                self.resolved_name, seq, self._nconn, data))
         for delay, conns in self._fanout:
             post(env, delay, (data, seq, conns), _arrive_batch)
         for conn in self._single:

@@ -97,9 +97,9 @@ _ALL: tuple[TraceKind, ...] = (
        "publisher the publishing node, connection its id."),
     _k("topic.disconnect", "topic publisher connection", "graph",
        "A connection went down (either end unregistered or shut down)."),
-    _k("topic.publish", "topic seq connections", "graph",
-       "A message was published (serialized once): its seq and how many connections it "
-       "was sent on."),
+    _k("topic.publish", "topic seq connections data", "graph",
+       "A message was published (serialized once): its seq, how many connections it "
+       "was sent on, and its serialized bytes (the digest covers their sha256)."),
     _k("topic.deliver", "topic publisher seq", "graph",
        "A subscriber's callback ran for a message; source is the subscriber's node, "
        "publisher the publishing node."),

@@ -25,12 +25,13 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from operator import attrgetter
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from ddes.errors import DdesTypeError, DdesValueError
+from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
 from ddes.time.units import HasNsec
 
@@ -51,21 +52,33 @@ class TraceEvent(NamedTuple):
     details: dict[str, Any]
 
     def to_json(self) -> str:
-        """The canonical JSON line of this event (used by the digest)."""
-        return json.dumps(
+        """The canonical JSON line of this event (used by the digest).
+
+        Memory addresses in reprs (``<X object at 0x7f…>``) are replaced by
+        ``0x…``: they differ from run to run and machine to machine.
+        """
+        line = json.dumps(
             [self.t, self.kind, self.source, self.details],
             sort_keys=True,
             separators=(",", ":"),
             default=canonical,
             ensure_ascii=False,
         )
+        if " at 0x" in line:
+            line = _ADDRESS.sub(" at 0x…>", line)
+        return line
+
+
+#: A memory address in a default repr.
+_ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+>")
 
 
 def canonical(value: object) -> object:
     """JSON fallback for values that json does not know.
 
     Time/Duration become integer nanoseconds, messages become dicts of their
-    slots, bytes become lists of ints, sets become sorted lists.
+    slots, bytes (message payloads) become ``"sha256:<hex>"`` of their
+    content, sets become sorted lists.
     """
     to_nsec = getattr(value, "to_nsec", None)
     if to_nsec is not None:
@@ -73,8 +86,8 @@ def canonical(value: object) -> object:
     slots = getattr(value, "__slots__", None)
     if slots is not None and hasattr(value, "_type"):
         return {"_type": value._type, **{s: getattr(value, s) for s in slots}}
-    if isinstance(value, (bytes, bytearray)):
-        return list(value)
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        return "sha256:" + hashlib.sha256(value).hexdigest()
     if isinstance(value, (set, frozenset)):
         return sorted(value, key=repr)
     if isinstance(value, tuple):
@@ -348,6 +361,17 @@ class Trace:
         """
         return not self._counts
 
+    def _incomplete_reason(self) -> str:
+        """Why this trace cannot stand for its whole run ('' if it can)."""
+        if self._counts:
+            kinds = ", ".join(sorted(self._counts))
+            return f"{sum(self._counts.values())} events were counted but not stored: {kinds}"
+        if not self.enabled:
+            return "recording is switched off: trace.enabled is False"
+        if self.filtered:
+            return "a recording filter is set"
+        return ""
+
     @property
     def counts(self) -> Counter[str]:
         """How many events of each kind were recorded (stored or only counted)."""
@@ -507,9 +531,15 @@ class Trace:
     def digest(self) -> str:
         """sha256 (hex) over the canonical form of every stored event.
 
-        Only stored events count: with ``enabled = False`` or a filter the
-        digest covers part of the run (see :attr:`complete`).
+        A digest promises "identical runs", so it is refused for a trace that
+        does not hold every event (recording switched off with ``enabled =
+        False``, or a filter): :class:`~ddes.errors.DigestError` says which.
         """
+        if self._incomplete_reason():
+            raise DigestError(
+                "cannot digest this trace: it does not hold every event of the run "
+                f"({self._incomplete_reason()}); record everything (trace.enabled = True and "
+                "trace.set_filter() before running) to digest a run")
         h = hashlib.sha256()
         for line in self.lines():
             h.update(line.encode("utf-8"))

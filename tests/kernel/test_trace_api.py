@@ -12,6 +12,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import ddes
+from ddes.errors import DigestError
 from ddes.errors import DdesTypeError, DdesValueError
 from ddes.kernel.kinds import TRACE_KINDS
 from ddes.kernel.trace import Trace, TraceEvent, TraceSelection
@@ -22,7 +23,8 @@ _PUB = ("topic", "seq", "connections")
 #: The digest of :func:`fill_fixed`, computed once with the trace as it was before
 #: append/append_row/filters/select existed.  It must never change: it pins the
 #: canonical form that every recorded run's digest is made of.
-FIXED_DIGEST = "d7320227a0b3da2b339c99864773e8a73e32e592ae77145a25c434f306b9e126"
+# The canonical form of issue 13: bytes as "sha256:<hex>" (was a list of ints before).
+FIXED_DIGEST = "9009300a16aee201cb8b23312ba9aa3980e3a4865e09184180eeb4cf85c631de"
 
 
 def fill_fixed(trace: Any, fast: str, slow: str) -> None:
@@ -67,7 +69,11 @@ def test_digest_is_the_same_through_the_slow_paths() -> None:
     filtered = Trace()
     filtered.set_filter(include=sorted({k.split(".")[0] + "." if "." in k else k for k in TRACE_KINDS}))
     fill_fixed(filtered, "append_row", "append")
-    assert filtered.digest() == FIXED_DIGEST and filtered.complete
+    assert filtered.complete
+    with pytest.raises(DigestError, match="a recording filter is set"):
+        filtered.digest()  # nothing was filtered out, but the filter could have
+    filtered.set_filter()
+    assert filtered.digest() == FIXED_DIGEST
 
     toggled = Trace()
     toggled.enabled = False
@@ -81,7 +87,7 @@ def test_lines_are_the_canonical_form() -> None:
     fill_fixed(trace, "append_row", "append")
     lines = list(trace.lines())
     assert lines[2] == '[1000000,"timer.fire","/ticker",{"expected":1000000,"real":1000000}]'
-    assert lines[6] == '[5000000,"reconfigure.update","/dyn",{"config":{"a":null,"b":1.5,"c":[0,1]},"ns":"/dyn"}]'
+    assert lines[6] == '[5000000,"reconfigure.update","/dyn",{"config":{"a":null,"b":1.5,"c":"sha256:b413f47d13ee2fe6c845b2ee141af81de858df4ec549a58b7970bb96645bc8d2"},"ns":"/dyn"}]'
     assert lines[8] == '[7000000,"node.exit","/talker",{}]'
 
 
@@ -266,7 +272,9 @@ def test_a_filter_changes_the_digest() -> None:
     part.set_filter(exclude=["timer.fire"])
     fill_fixed(full, "append_row", "append")
     fill_fixed(part, "append_row", "append")
-    assert full.digest() == FIXED_DIGEST and part.digest() != FIXED_DIGEST
+    assert full.digest() == FIXED_DIGEST
+    with pytest.raises(DigestError, match="counted but not stored: timer.fire"):
+        part.digest()
     assert full.complete and not part.complete
     assert part.counts == full.counts
 
@@ -475,7 +483,9 @@ def test_a_filtered_run_stores_the_matching_part_of_the_same_run(spec: dict[str,
               if any(e.kind == n or (n.endswith(".") and e.kind.startswith(n)) for n in names) == include]
     assert part.trace.events == wanted
     assert part.trace.counts == full.trace.counts
-    assert not part.trace.complete and part.digest() != full.digest()
+    assert not part.trace.complete
+    with pytest.raises(DigestError):
+        part.digest()
 
 
 def test_the_snippets_of_docs_trace_md_run() -> None:
@@ -485,3 +495,44 @@ def test_the_snippets_of_docs_trace_md_run() -> None:
     namespace: dict[str, Any] = {}
     for block in blocks:
         exec(compile(block, "docs/trace.md", "exec"), namespace)  # noqa: S102
+
+
+# -- issue 13: a digest that means what it says ----------------------------------------------
+
+
+def _talk(data: str, seed: int = 0) -> str:
+    world = ddes.World(seed=seed)
+    node = world.create_node("talker")
+    pub = ddes.Publisher(node, "chatter", ddes.get_message_class("std_msgs/String"),
+                         queue_size=1)
+    world.call_at(1000, lambda: pub.publish(data=data))
+    world.run(until=1)
+    return world.digest()
+
+
+def test_the_digest_covers_message_payloads() -> None:
+    assert _talk("hello") == _talk("hello")
+    assert _talk("hello") != _talk("hellp")
+
+
+def test_the_digest_holds_no_memory_addresses() -> None:
+    class Thing:
+        pass
+
+    digests = set()
+    for _ in range(3):
+        world = ddes.World()
+        world.record("user.note", "/me", thing=Thing(), text=repr(Thing()))
+        digests.add(world.digest())
+        assert " at 0x…>" in next(world.trace.lines())
+    assert len(digests) == 1
+
+
+def test_a_world_without_recording_is_not_digested() -> None:
+    world = ddes.World()
+    world.trace.enabled = False
+    with pytest.raises(DigestError, match="switched off"):
+        world.digest()
+    world.create_node("n")
+    with pytest.raises(DigestError, match="counted but not stored: node.start"):
+        world.digest()
