@@ -42,7 +42,7 @@ from ddes.graph.timer import Timer, TimerEvent
 from ddes.time.clock import Clock, SimClock
 from ddes.time.rate import Rate, RoscppRate, WallRate
 from ddes.time.rostime import Time, WallTime
-from ddes.time.sleep import duration_sleep, sleep
+from ddes.time.sleep import duration_sleep, must_yield, sleep
 from ddes.time.units import DurationLike
 
 if TYPE_CHECKING:
@@ -298,7 +298,8 @@ class Node:
         """
         from ddes.graph.waiting import wait_for_message
 
-        return wait_for_message(self, topic, data_class, timeout)
+        return must_yield(wait_for_message(self, topic, data_class, timeout),
+                          "node.wait_for_message(...)")
 
     # -- parameters --------------------------------------------------------------------------------
     def get_param(self, name: str, default: Any = _UNSET) -> Any:
@@ -391,7 +392,7 @@ class Node:
     def sleep(self, duration: DurationLike) -> simpy.Event:
         """rospy.sleep on this node's clock: ``yield node.sleep(0.5)``."""
         self.check_alive("sleep")
-        return sleep(self.clock, duration)
+        return must_yield(sleep(self.clock, duration), "node.sleep(...)")
 
     def duration_sleep(self, duration: DurationLike) -> simpy.Event:
         """roscpp Duration::sleep: the event's value says whether it slept."""

@@ -25,7 +25,9 @@ from ddes.graph.topics import (
     Subscriber,
     connect_later,
 )
+from ddes.kernel.events import DEFAULT_INSTANT_BUDGET
 from ddes.kernel.kernel import Kernel
+from ddes.kernel.runaway import DEFAULT_WALL_BUDGET
 from ddes.msg.registry import MessageRegistry, default_registry
 from ddes.rospack import RosPack
 
@@ -80,14 +82,22 @@ class World(Kernel):
         different package paths never see each other's types.  Nothing reads
         ``DDES_PACKAGE_PATH`` behind your back; the ``ddes`` command passes it
         here when it starts.
+    wall_budget:
+        Wall-clock seconds one callback may run without returning or yielding
+        before :meth:`run` stops it with RunawayError (default 10; None: off).
+    instant_budget:
+        Events one simulated instant may hold before :meth:`run` stops a
+        zero-time livelock with RunawayError (default 10,000,000; None: off).
     """
 
     #: The class :meth:`create_node` makes (the ``ddes.World`` facade makes ``ddes.Node``).
     node_class: ClassVar[type[Node] | None] = None
 
     def __init__(self, seed: int = 0, *,
-                 package_path: Iterable[str | os.PathLike[str]] = ()) -> None:
-        super().__init__(seed)
+                 package_path: Iterable[str | os.PathLike[str]] = (),
+                 wall_budget: float | None = DEFAULT_WALL_BUDGET,
+                 instant_budget: int | None = DEFAULT_INSTANT_BUDGET) -> None:
+        super().__init__(seed, wall_budget=wall_budget, instant_budget=instant_budget)
         paths = [package_path] if isinstance(package_path, (str, os.PathLike)) else list(package_path)
         #: Message, service and action types of this world (the bundled
         #: registry, shared and immutable, unless a package path is given).

@@ -19,6 +19,7 @@ same same-time order, without two Python calls per message.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from heapq import heappop, heappush
 from typing import Generic, TypeVar
@@ -27,7 +28,19 @@ import simpy
 from simpy.core import EmptySchedule, StopSimulation
 from simpy.events import NORMAL, PENDING, URGENT, Event, Timeout
 
-__all__ = ["NsEnvironment", "Posted", "is_pending", "post", "queued_events"]
+from ddes.time.sleep import MUST_YIELD
+
+__all__ = [
+    "DEFAULT_INSTANT_BUDGET",
+    "NeverYieldedWarning",
+    "NsEnvironment",
+    "Posted",
+    "ZeroTimeLivelock",
+    "is_pending",
+    "never_yielded",
+    "post",
+    "queued_events",
+]
 
 _V = TypeVar("_V")
 _V_co = TypeVar("_V_co", covariant=True)
@@ -45,6 +58,11 @@ class NsEnvironment(simpy.Environment):
         super().__init__(initial_time)
         #: Current kernel time, integer nanoseconds (a plain attribute; read-only by contract).
         self.now_ns: int = initial_time
+        #: Events processed so far (the wall-clock watchdog watches it move).
+        self.steps = 0
+        #: Most events one instant may hold before the run stops as a zero-time livelock.
+        self.instant_budget: int = DEFAULT_INSTANT_BUDGET
+        self._same_instant = 0
 
     @property
     def now(self) -> int:
@@ -54,11 +72,23 @@ class NsEnvironment(simpy.Environment):
     def step(self) -> None:
         """Process the next event (SimPy 4.1's ``Environment.step``, also setting ``now_ns``)."""
         try:
-            now, _, _, event = heappop(self._queue)
+            t, _, _, event = heappop(self._queue)
         except IndexError:
             raise EmptySchedule from None
-        self._now = self.now_ns = now  # type: ignore[assignment]  # ddes schedules int delays
+        now: int = t  # type: ignore[assignment]  # ddes schedules int delays only
+        self.steps += 1
+        if now == self.now_ns:
+            self._same_instant += 1
+            if self._same_instant > self.instant_budget:
+                raise ZeroTimeLivelock(now, self._same_instant, event)
+        else:
+            self._same_instant = 0
+        self._now = self.now_ns = now
         callbacks, event.callbacks = event.callbacks, None  # type: ignore[assignment]
+        if not callbacks:
+            label = getattr(event, MUST_YIELD, None)
+            if label is not None:
+                never_yielded(label, now)
         try:
             for callback in callbacks:
                 callback(event)
@@ -72,6 +102,31 @@ class NsEnvironment(simpy.Environment):
             exc = type(event._value)(*event._value.args)
             exc.__cause__ = event._value
             raise exc
+
+
+#: Default of :attr:`NsEnvironment.instant_budget`: events at one instant before a livelock is
+#: declared (``rosbag play --immediate`` of a million-message bag stays well under it).
+DEFAULT_INSTANT_BUDGET = 10_000_000
+
+
+class ZeroTimeLivelock(Exception):  # noqa: N818 - an internal signal, turned into RunawayError
+    """Raised by :meth:`NsEnvironment.step` when one instant holds too many events."""
+
+    def __init__(self, t_ns: int, count: int, event: Event) -> None:
+        super().__init__(t_ns, count)
+        self.t_ns, self.count, self.event = t_ns, count, event
+
+
+class NeverYieldedWarning(RuntimeWarning):
+    """An event a blocking call returned fired with nobody waiting: a forgotten ``yield``."""
+
+
+def never_yielded(label: str, t_ns: int) -> None:
+    """Warn, as asyncio does for a coroutine never awaited, that ``label`` was not yielded."""
+    warnings.warn(
+        f"{label} was never yielded: the event it returned fired at t={t_ns / 1e9:.9f} s with "
+        f"nobody waiting, so nothing waited for it; write 'yield {label}'",
+        NeverYieldedWarning, stacklevel=1)
 
 
 class Posted(Timeout, Generic[_V_co]):

@@ -21,14 +21,22 @@ from __future__ import annotations
 
 import hashlib
 import random
+import sys
 from collections.abc import Callable, Mapping
 from types import MappingProxyType
 from typing import TYPE_CHECKING, TypeVar
 
 import simpy
 
-from ddes.errors import DdesTypeError, DdesValueError, WorldError
-from ddes.kernel.events import NsEnvironment, post
+from ddes.errors import DdesTypeError, DdesValueError, RunawayError, WorldError
+from ddes.kernel.events import DEFAULT_INSTANT_BUDGET, NsEnvironment, ZeroTimeLivelock, post
+from ddes.kernel.runaway import (
+    DEFAULT_WALL_BUDGET,
+    WallBudgetExceeded,
+    Watchdog,
+    describe_livelock,
+    describe_runaway,
+)
 from ddes.kernel.trace import Trace
 from ddes.time.clock import KernelClock
 from ddes.time.rostime import Duration, Time, WallTime
@@ -56,12 +64,15 @@ class Kernel:
         scenario + same seed = same trace.
     """
 
-    def __init__(self, seed: int = 0) -> None:
+    def __init__(self, seed: int = 0, *, wall_budget: float | None = DEFAULT_WALL_BUDGET,
+                 instant_budget: int | None = DEFAULT_INSTANT_BUDGET) -> None:
         if isinstance(seed, bool) or not isinstance(seed, int):
             raise DdesTypeError(f"seed must be an int, got {seed!r}")
         self.seed = seed
         #: The SimPy environment; ``env.now`` is integer nanoseconds.
         self.env = NsEnvironment(initial_time=0)
+        self.wall_budget = wall_budget
+        self.instant_budget = instant_budget
         #: The world's random generator (all randomness comes from here).
         self.rng = random.Random(seed)
         #: Every observable event of this world.
@@ -70,6 +81,36 @@ class Kernel:
         self.kernel_clock = KernelClock(self.env)
         self._ids: dict[str, int] = {}
         self._extensions: dict[str, object] = {}
+
+    # -- budgets against runaway code ------------------------------------------------
+    @property
+    def wall_budget(self) -> float | None:
+        """Wall-clock seconds one step (one callback) may take before :meth:`run` stops it.
+
+        ``None`` switches the watchdog off.  It needs the main thread of a Unix
+        process (it uses ``SIGALRM``); elsewhere it is off.
+        """
+        return self._wall_budget
+
+    @wall_budget.setter
+    def wall_budget(self, seconds: float | None) -> None:
+        if seconds is not None and (isinstance(seconds, bool)
+                                    or not isinstance(seconds, (int, float)) or not seconds > 0):
+            raise DdesValueError(f"wall_budget must be None or seconds > 0, got {seconds!r}")
+        self._wall_budget = None if seconds is None else float(seconds)
+
+    @property
+    def instant_budget(self) -> int | None:
+        """Events one simulated instant may hold before :meth:`run` declares a livelock."""
+        budget = self.env.instant_budget
+        return None if budget == sys.maxsize else budget
+
+    @instant_budget.setter
+    def instant_budget(self, events: int | None) -> None:
+        if events is not None and (isinstance(events, bool) or not isinstance(events, int)
+                                   or events < 1):
+            raise DdesValueError(f"instant_budget must be None or an int >= 1, got {events!r}")
+        self.env.instant_budget = sys.maxsize if events is None else events
 
     # -- time -----------------------------------------------------------------
     @property
@@ -154,6 +195,24 @@ class Kernel:
         return post(self.env, delay, None, lambda _ev: fn())
 
     def run(self, until: TimeLike | Duration | simpy.Event | None = None) -> None:
+        """Run the simulation (see :meth:`_run`), stopping runaway code.
+
+        A step that takes longer than :attr:`wall_budget` wall-clock seconds
+        (a callback in ``while True:``), or an instant that holds more than
+        :attr:`instant_budget` events (a zero-time livelock), ends the run with
+        :class:`~ddes.errors.RunawayError` naming the node, the callback and
+        the simulated time.
+        """
+        with Watchdog(self.env, self._wall_budget):
+            try:
+                self._run(until)
+            except ZeroTimeLivelock as live:
+                raise RunawayError(describe_livelock(live, self.instant_budget)) from None
+            except WallBudgetExceeded as stop:
+                raise RunawayError(describe_runaway(stop, self.env.now_ns,
+                                                    self._wall_budget)) from None
+
+    def _run(self, until: TimeLike | Duration | simpy.Event | None = None) -> None:
         """Run the simulation.
 
         ``until`` is a :class:`Time` (an absolute instant), a

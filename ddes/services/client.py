@@ -43,6 +43,7 @@ from ddes.services.network import network_of
 from ddes.services.server import check_service_name
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
 from ddes.services.waiting import check_nonzero_timeout, wait_for_service, wait_for_service_ns
+from ddes.time.sleep import must_yield
 from ddes.time.units import DurationLike, duration_to_ns, ns_to_sec
 
 if TYPE_CHECKING:
@@ -111,7 +112,8 @@ class ServiceProxy:
         if timeout is not _UNSET and self._field_timeout:
             kwds["timeout"] = timeout
             timeout = _UNSET
-        return self._start(args, kwds, self._call_timeout_ns(timeout)).event
+        return must_yield(self._start(args, kwds, self._call_timeout_ns(timeout)).event,
+                          "proxy(request)")
 
     __call__ = call
 

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from ddes.errors import DdesValueError, ROSException, ROSInterruptException
 from ddes.services.network import network_of
 from ddes.services.server import check_service_name
+from ddes.time.sleep import must_yield
 from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
@@ -77,7 +78,8 @@ def wait_for_service(node: Node, service: str,
     timeout_ns = None if timeout is None else duration_to_ns(timeout, "timeout")
     check_nonzero_timeout(timeout_ns)
     node.check_alive("wait for a service")
-    return wait_for_service_ns(node, node.resolve_name(service), timeout_ns)
+    return must_yield(wait_for_service_ns(node, node.resolve_name(service), timeout_ns),
+                      "wait_for_service(...)")
 
 
 def wait_for_service_ns(node: Node, name: str, timeout_ns: int | None) -> simpy.Event:

@@ -25,7 +25,7 @@ import simpy
 from ddes.errors import DdesTypeError, DdesValueError, ROSTimeMovedBackwardsException
 from ddes.time.clock import Clock, ClockOwner, KernelClock
 from ddes.time.rostime import Duration, WallDuration
-from ddes.time.sleep import _sim_sleep, duration_sleep
+from ddes.time.sleep import MUST_YIELD, _sim_sleep, duration_sleep, must_yield
 
 __all__ = ["Rate", "RoscppRate", "WallRate", "check_hz", "roscpp_period_ns"]
 
@@ -113,8 +113,11 @@ class Rate:
         remaining = self._remaining(curr)
         if not clock.is_sim:
             self._advance(curr)
-            return clock.env.timeout(remaining if remaining > 0 else 0)
-        return clock.env.process(self._sim_sleep(curr, remaining))
+            ev: simpy.Event = clock.env.timeout(remaining if remaining > 0 else 0)
+        else:
+            ev = clock.env.process(self._sim_sleep(curr, remaining))
+        setattr(ev, MUST_YIELD, "rate.sleep()")
+        return ev
 
     def _sim_sleep(self, curr: int, remaining: int) -> Generator[simpy.Event, object, None]:
         try:
@@ -163,8 +166,9 @@ class RoscppRate:
         if sleep_time <= 0:
             if actual_end > expected_end + self._period:
                 self._start = actual_end
-            return self._clock.env.timeout(0, False)
-        return duration_sleep(self._clock, Duration._from_ns(sleep_time))
+            return must_yield(self._clock.env.timeout(0, False), "rate.sleep()")
+        return must_yield(duration_sleep(self._clock, Duration._from_ns(sleep_time)),
+                          "rate.sleep()")
 
     def reset(self) -> None:
         """Restart the cycle now."""

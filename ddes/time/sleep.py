@@ -19,7 +19,17 @@ from ddes.errors import ROSTimeMovedBackwardsException
 from ddes.time.clock import Clock, ClockOwner
 from ddes.time.units import DurationLike, duration_to_ns
 
-__all__ = ["duration_sleep", "sleep", "sleep_ns"]
+__all__ = ["MUST_YIELD", "duration_sleep", "must_yield", "sleep", "sleep_ns"]
+
+#: The attribute naming a blocking call on the event it returned; the kernel warns
+#: (``NeverYieldedWarning``) when such an event fires with nobody waiting on it.
+MUST_YIELD = "ddes_must_yield"
+
+
+def must_yield(event: simpy.Event, label: str) -> simpy.Event:
+    """Mark ``event`` as the result of the blocking call ``label`` (``"rate.sleep()"``)."""
+    setattr(event, MUST_YIELD, label)
+    return event
 
 
 def _sim_sleep(clock: Clock, d_ns: int) -> Generator[simpy.Event, object, bool]:
@@ -44,7 +54,7 @@ def sleep_ns(clock: Clock, d_ns: int) -> simpy.Event:
 def sleep(clock: Clock | ClockOwner, duration: DurationLike) -> simpy.Event:
     """rospy.sleep: ``yield sleep(node, 0.5)`` or ``yield node.sleep(0.5)``."""
     clk = clock.clock if hasattr(clock, "clock") else clock  # a node's clock, or the clock
-    return sleep_ns(clk, duration_to_ns(duration))
+    return must_yield(sleep_ns(clk, duration_to_ns(duration)), "sleep(...)")
 
 
 def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[simpy.Event, object, bool]:
