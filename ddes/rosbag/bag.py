@@ -74,6 +74,7 @@ from ddes.rosbag.info import (
     TopicRow,
     info_text,
     info_yaml,
+    shown,
     to_sec,
     topic_rows,
 )
@@ -236,6 +237,12 @@ class Bag:
     registry:
         Message registry used to turn connections into classes (default: the
         package path); types it lacks are rebuilt from ``message_definition``.
+    max_chunk_size:
+        Reading a hostile file: by default a compressed chunk may declare at
+        most 1 GiB uncompressed and all of a file's compressed chunks together
+        at most 1000x the file's size (at least 64 MiB); past that ddes raises
+        ResourceLimitError before decompressing.  An int trusts each chunk up
+        to that many bytes instead (for genuine, very compressible bags).
     """
 
     def __init__(self, f: str | os.PathLike[str] | IO[bytes] | None = None,
@@ -243,7 +250,8 @@ class Bag:
                  chunk_threshold: int = 768 * 1024, allow_unindexed: bool = False,
                  options: BagOptions | None = None, skip_index: bool = False, *,
                  clock: BagClock | None = None, format: str | None = None,
-                 registry: MessageRegistry | None = None) -> None:
+                 registry: MessageRegistry | None = None,
+                 max_chunk_size: int | None = None) -> None:
         if options is not None:
             if not isinstance(options, dict):
                 raise DdesTypeError(f"options must be a dict, got {options!r}")
@@ -284,6 +292,7 @@ class Bag:
         self._format = format
         self._mcap_loaded = False
         self._file_pos = 0
+        self._max_chunk_size = max_chunk_size
         if f is None:
             return
         if not isinstance(f, (str, os.PathLike)):  # a file object (has read or write)
@@ -306,10 +315,17 @@ class Bag:
     # -- loading and saving ------------------------------------------------------------------
     def _load(self, data: bytes, name: str, allow_unindexed: bool) -> None:
         decoded: Decoded
-        if data.startswith(MCAP_MAGIC):
-            decoded = decode_mcap(data, name)
-        else:
-            decoded = decode(data, name, allow_unindexed=allow_unindexed)
+        try:
+            if data.startswith(MCAP_MAGIC):
+                decoded = decode_mcap(data, name, max_chunk_size=self._max_chunk_size)
+            else:
+                decoded = decode(data, name, allow_unindexed=allow_unindexed,
+                                 max_chunk_size=self._max_chunk_size)
+        except DdesError as exc:  # a hostile name in the message must not break printing it
+            text = str(exc)
+            if text.isprintable():
+                raise
+            raise type(exc)(shown(text)) from None
         self._connections = dict(decoded.connections)
         self._indexes = decoded.indexes
         self._log = decoded.log
@@ -342,11 +358,12 @@ class Bag:
     def from_bytes(cls, data: bytes, *, allow_unindexed: bool = False, compression: str = "none",
                    chunk_threshold: int = 768 * 1024, options: BagOptions | None = None,
                    skip_index: bool = False, clock: BagClock | None = None,
-                   format: str | None = None, registry: MessageRegistry | None = None) -> Bag:
+                   format: str | None = None, registry: MessageRegistry | None = None,
+                   max_chunk_size: int | None = None) -> Bag:
         """An in-memory bag holding the messages of .bag or MCAP ``data`` (the other keywords
         are the constructor's)."""
         bag = cls(None, "w", compression, chunk_threshold, options=options, skip_index=skip_index,
-                  clock=clock, format=format, registry=registry)
+                  clock=clock, format=format, registry=registry, max_chunk_size=max_chunk_size)
         bag._load(bytes(data), "<bytes>", allow_unindexed)
         return bag
 
@@ -611,13 +628,22 @@ class Bag:
         from ddes.msg import default_registry, get_message_class, message_class_from_definition
 
         registry = self._registry or default_registry()
-        where = f"{self._filename or 'bag'}: connection {conn.id} ({conn.topic})"
+        where = shown(f"{self._filename or 'bag'}: connection {conn.id} ({conn.topic})")
+        if not conn.datatype.isprintable() or not conn.datatype.isascii():
+            raise ROSBagFormatException(
+                f"{where}: the message type {shown(conn.datatype)!r} in the connection header is "
+                "not a ROS type name (bytes that are not printable ASCII); the bag is corrupt")
         if conn.msg_def:
+            # bytes that are not UTF-8 (say Latin-1 comments of an old .msg) read as U+FFFD;
+            # they cannot reach the md5, which ignores comments, and elsewhere the parser refuses
+            definition = "".join("\ufffd" if "\ud800" <= c <= "\udfff" else c
+                                 for c in conn.msg_def) if not conn.msg_def.isascii() \
+                else conn.msg_def
             try:
-                cls = message_class_from_definition(conn.datatype, conn.msg_def, registry=registry)
+                cls = message_class_from_definition(conn.datatype, definition, registry=registry)
             except DdesError as exc:
                 raise ROSBagFormatException(f"{where}: cannot rebuild [{conn.datatype}] from its "
-                                            f"message_definition: {exc}") from None
+                                            f"message_definition: {shown(str(exc))}") from None
         else:
             try:
                 cls = get_message_class(conn.datatype, registry)
@@ -633,10 +659,10 @@ class Bag:
         try:
             return cls.__new__(cls)._deserialize_from(data)
         except DdesError as exc:
-            raise ROSBagFormatException(
+            raise ROSBagFormatException(shown(
                 f"{self._filename or 'bag'}: message at {to_sec(t):.9f} on {conn.topic} "
                 f"(connection {conn.id}, {conn.datatype}) cannot be deserialized: {exc}"
-            ) from None
+            )) from None
 
     def _select(self, topics: Topics = None, connection_filter: ConnectionFilter | None = None,
                 ) -> list[ConnectionInfo]:

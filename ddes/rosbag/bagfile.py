@@ -33,6 +33,10 @@ from operator import itemgetter
 from typing import IO
 
 from ddes.errors import (
+    DdesError,
+    DdesTypeError,
+    DdesValueError,
+    ResourceLimitError,
     ROSBagEncryptNotSupportedException,
     ROSBagException,
     ROSBagFormatException,
@@ -58,8 +62,9 @@ from ddes.rosbag.records import (
     pack_time,
 )
 
-__all__ = ["COMPRESSIONS", "ChunkStat", "Decoded", "Entry", "FileStats", "active_placeholder",
-           "decode", "encode", "read_file"]
+__all__ = ["COMPRESSIONS", "INFLATE_FLOOR", "INFLATE_RATIO", "MAX_CHUNK_SIZE", "ChunkStat",
+           "Decoded", "Entry", "FileStats", "InflateBudget", "active_placeholder", "decode",
+           "encode", "inflate", "read_file"]
 
 #: ``(time_ns, connection id, serialized message)``.
 Entry = tuple[int, int, bytes]
@@ -248,7 +253,89 @@ def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out:
 
 # -- reading ---------------------------------------------------------------------------------
 
-def _decompress(kind: str, data: bytes, size: int, where: str) -> bytes:
+#: The most uncompressed bytes one chunk may declare (1 GiB), unless ``Bag(max_chunk_size=N)``
+#: says otherwise.
+MAX_CHUNK_SIZE = 1 << 30
+#: Without ``max_chunk_size``, the compressed chunks of a file together may inflate to at most
+#: ``INFLATE_RATIO`` times the file's size, and never less than ``INFLATE_FLOOR`` bytes allowed.
+INFLATE_RATIO = 1000
+INFLATE_FLOOR = 64 << 20
+
+
+def _mib(n: int) -> str:
+    return f"{n / (1 << 20):.1f} MiB"
+
+
+class InflateBudget:
+    """How many bytes the compressed chunks of one file may inflate to.
+
+    A chunk declares its uncompressed size; ddes checks the declaration
+    *before* decompressing (so a 5 KB file cannot make ddes allocate 2 GB)
+    and then decompresses with that size as a hard cap (see :func:`inflate`).
+    With ``max_chunk_size=None`` a chunk may declare at most
+    :data:`MAX_CHUNK_SIZE` and all compressed chunks together at most
+    ``max(INFLATE_FLOOR, INFLATE_RATIO * file_size)``; an explicit
+    ``max_chunk_size`` trusts each chunk up to that size, with no ratio.
+    """
+
+    __slots__ = ("file_size", "limit", "ratio_budget", "used")
+
+    def __init__(self, file_size: int, max_chunk_size: int | None = None) -> None:
+        if max_chunk_size is not None and (isinstance(max_chunk_size, bool)
+                                           or not isinstance(max_chunk_size, int)):
+            raise DdesTypeError(f"max_chunk_size must be an int (bytes) or None, got "
+                                f"{max_chunk_size!r}")
+        if max_chunk_size is not None and max_chunk_size < 1:
+            raise DdesValueError(f"max_chunk_size must be at least 1 byte, got {max_chunk_size}")
+        self.file_size = file_size
+        self.limit = MAX_CHUNK_SIZE if max_chunk_size is None else max_chunk_size
+        self.ratio_budget: int | None = (max(INFLATE_FLOOR, INFLATE_RATIO * file_size)
+                                         if max_chunk_size is None else None)
+        self.used = 0
+
+    def take(self, declared: int, compressed: int, kind: str, where: str) -> None:
+        """Account for a chunk of ``compressed`` bytes of ``kind`` declaring ``declared``."""
+        if declared > self.limit:
+            raise ResourceLimitError(
+                f"{where}: the chunk declares {declared} bytes ({_mib(declared)}) uncompressed "
+                f"from {compressed} bytes of {kind} data, over the limit max_chunk_size="
+                f"{self.limit} ({_mib(self.limit)}): a decompression bomb or a corrupt chunk "
+                f"header; if the bag is genuine, open it with Bag(path, max_chunk_size="
+                f"{declared})")
+        if self.ratio_budget is not None and self.used + declared > self.ratio_budget:
+            raise ResourceLimitError(
+                f"{where}: the chunk declares {declared} bytes ({_mib(declared)}) uncompressed "
+                f"from {compressed} bytes of {kind} data, which takes the file's compressed "
+                f"chunks past {self.ratio_budget} bytes inflated ({INFLATE_RATIO}x the file's "
+                f"{self.file_size} bytes, at least {_mib(INFLATE_FLOOR)}): a decompression bomb "
+                f"or a corrupt chunk header; if the bag is genuine, open it with "
+                f"Bag(path, max_chunk_size={max(declared, 1)}) to trust each chunk's declared "
+                "size up to that many bytes")
+        self.used += declared
+
+
+def _zstd_inflate(data: bytes, cap: int) -> bytes:
+    import zstandard
+
+    parts: list[bytes] = []
+    got = 0
+    with zstandard.ZstdDecompressor().stream_reader(data) as reader:
+        while got < cap:
+            part = reader.read(min(cap - got, 1 << 20))
+            if not part:
+                break
+            parts.append(part)
+            got += len(part)
+    return b"".join(parts)
+
+
+def inflate(kind: str, data: bytes, size: int, where: str) -> bytes:
+    """Decompress ``data`` (``none``, ``bz2``, ``lz4``, ``zstd``) to exactly ``size`` bytes.
+
+    Decompression stops one byte past ``size``, so data that inflates further
+    (a bomb, or a lying header) costs at most ``size + 1`` bytes and raises
+    :class:`~ddes.errors.ROSBagFormatException`.
+    """
     try:
         if kind == "none":
             out = data
@@ -258,18 +345,25 @@ def _decompress(kind: str, data: bytes, size: int, where: str) -> bytes:
             import lz4.frame
 
             out = lz4.frame.LZ4FrameDecompressor().decompress(data, max_length=size + 1)
+        elif kind == "zstd":
+            out = _zstd_inflate(data, size + 1)
         else:
-            raise ROSBagException(f"{where}: unsupported compression type: {kind} (ddes reads "
-                                  f"{', '.join(COMPRESSIONS)})")
-    except ROSBagException:
+            raise ROSBagException(f"{where}: unsupported compression type: {kind[:40]!r} (ddes "
+                                  f"reads {', '.join(COMPRESSIONS)})")
+    except DdesError:
         raise
-    except (OSError, ValueError, RuntimeError, EOFError, MemoryError) as exc:
+    except Exception as exc:  # noqa: BLE001 - each codec raises its own kinds on bad data
         raise ROSBagFormatException(f"{where}: the {kind} data of the chunk is corrupt "
                                     f"({type(exc).__name__}: {exc})") from None
+    if len(out) > size:
+        raise ROSBagFormatException(
+            f"{where}: the chunk header says {size} bytes uncompressed but its {kind} data "
+            "inflates past that (ddes stops at the declared size): a decompression bomb or a "
+            "corrupt chunk")
     if len(out) != size:
         raise ROSBagFormatException(
             f"{where}: the chunk header says {size} bytes uncompressed but its {kind} data "
-            f"holds {len(out)}{' or more' if len(out) > size else ''}")
+            f"holds {len(out)}; the chunk is truncated or corrupt")
     return bytes(out)
 
 
@@ -294,11 +388,19 @@ class _Chunk:
     conns: list[ConnectionInfo]
 
 
-def _read_chunk(cur: Cursor, pos: int, name: str) -> _Chunk:
+def _read_chunk(cur: Cursor, pos: int, name: str, budget: InflateBudget) -> _Chunk:
     rec = cur.record(pos, "chunk").expect(OP_CHUNK)
     compression = rec.text("compression")
     size = rec.u32("size")
-    raw = _decompress(compression, cur.data(rec), size, rec.where)
+    if compression not in COMPRESSIONS:
+        shown = compression[:40]
+        if not (shown.isascii() and shown.isprintable()):
+            shown = repr(shown)
+        raise ROSBagException(f"{rec.where}: unsupported compression type: {shown} "
+                              f"(ddes reads {', '.join(COMPRESSIONS)})")
+    if compression != "none":
+        budget.take(size, rec.data_len, compression, rec.where)
+    raw = inflate(compression, cur.data(rec), size, rec.where)
     inner = Cursor(raw, f"{name}: chunk at offset {pos}, uncompressed data")
     order: list[Entry] = []
     at: dict[int, Entry] = {}
@@ -402,8 +504,14 @@ def _read_magic(buf: bytes, name: str) -> None:
                                 f"with {line[:20]!r}, not {MAGIC.strip()!r})")
 
 
-def decode(buf: bytes, name: str, *, allow_unindexed: bool = False) -> Decoded:
-    """Read a whole v2.0 bag from ``buf`` (``name`` names it in error messages)."""
+def decode(buf: bytes, name: str, *, allow_unindexed: bool = False,
+           max_chunk_size: int | None = None) -> Decoded:
+    """Read a whole v2.0 bag from ``buf`` (``name`` names it in error messages).
+
+    ``max_chunk_size`` bounds what compressed chunks may inflate to (see
+    :class:`InflateBudget`).
+    """
+    budget = InflateBudget(len(buf), max_chunk_size)
     _read_magic(buf, name)
     cur = Cursor(buf, name)
     head = cur.record(_DATA_START, "file header").expect(OP_FILE_HEADER)
@@ -420,7 +528,7 @@ def decode(buf: bytes, name: str, *, allow_unindexed: bool = False) -> Decoded:
                f"its index position {index_pos} lies beyond the end of the file ({len(buf)} "
                "bytes): the file is truncated")
         if allow_unindexed:
-            return _recover(cur, first, name, why)
+            return _recover(cur, first, name, why, budget)
         raise ROSBagUnindexedException(f"{name}: bag unindexed ({why}); run rosbag reindex")
     if index_pos < first:
         raise ROSBagFormatException(f"{name}: the index position {index_pos} points into the "
@@ -453,7 +561,7 @@ def decode(buf: bytes, name: str, *, allow_unindexed: bool = False) -> Decoded:
             raise ROSBagFormatException(f"{name}: a chunk info record points to offset "
                                         f"{chunk_pos}, outside the chunk section "
                                         f"[{first}, {index_pos}); the index is corrupt")
-        chunk = _read_chunk(cur, chunk_pos, name)
+        chunk = _read_chunk(cur, chunk_pos, name, budget)
         _, found = _read_index_records(cur, chunk, len(counts), indexes)
         if found != counts:
             raise ROSBagFormatException(
@@ -481,7 +589,7 @@ def _finish(connections: dict[int, ConnectionInfo], log: list[Entry],
     return Decoded(live, log, {cid: indexes[cid] for cid in live}, stats, note)
 
 
-def _recover(cur: Cursor, pos: int, name: str, why: str) -> Decoded:
+def _recover(cur: Cursor, pos: int, name: str, why: str, budget: InflateBudget) -> Decoded:
     """Rebuild the index from the chunks, as ``rosbag reindex`` does."""
     connections: dict[int, ConnectionInfo] = {}
     log: list[Entry] = []
@@ -493,7 +601,7 @@ def _recover(cur: Cursor, pos: int, name: str, why: str) -> Decoded:
             rec = cur.record(pos)
             op = rec.op()
             if op == OP_CHUNK:
-                chunk = _read_chunk(cur, pos, name)
+                chunk = _read_chunk(cur, pos, name, budget)
                 for conn in chunk.conns:
                     connections.setdefault(conn.id, conn)
                 for entry in chunk.order:

@@ -19,8 +19,11 @@ wall clock.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import heapq
+import json
+import re
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -28,7 +31,7 @@ from operator import itemgetter
 
 import yaml
 
-from ddes.errors import DdesKeyError
+from ddes.errors import DdesKeyError, ROSBagFormatException
 from ddes.rosbag.bagfile import ChunkStat, Entry
 from ddes.rosbag.records import ConnectionInfo
 
@@ -220,11 +223,46 @@ def _compression_rows(chunks: list[ChunkStat], duration: float) -> list[tuple[st
     return rows
 
 
+def shown(text: str) -> str:
+    """``text`` safe to print: undecodable bytes as ``\\xNN``, control characters escaped.
+
+    Header bytes that are not UTF-8 are kept as surrogates (``surrogateescape``)
+    so they round-trip; printing them raw would raise UnicodeEncodeError, and a
+    control character in a hostile topic name could drive the terminal.
+    """
+    if text.isprintable():
+        return text
+    out = []
+    for c in text:
+        if c.isprintable():
+            out.append(c)
+        elif "\udc80" <= c <= "\udcff":
+            out.append(f"\\x{ord(c) - 0xDC00:02x}")
+        else:
+            out.append(c.encode("unicode_escape").decode("ascii"))
+    return "".join(out)
+
+
+_PLAIN = re.compile(r"[A-Za-z0-9_/.~+][A-Za-z0-9_/.~+@ -]*")
+
+
+def _yaml_str(text: str) -> str:
+    """``text`` as rosbag writes it when plain, else a double-quoted YAML scalar."""
+    text = shown(text)
+    if _PLAIN.fullmatch(text) and not text.endswith(" "):
+        return text
+    return json.dumps(text)  # a JSON string is a double-quoted YAML scalar
+
+
 def info_text(summary: BagSummary, *, freq: bool = False, tz: datetime.tzinfo | None = None) -> str:
-    """What ``rosbag info [--freq] BAG`` prints for the bag (``str(bag)``)."""
+    """What ``rosbag info [--freq] BAG`` prints for the bag (``str(bag)``).
+
+    Names are passed through :func:`shown` (a deviation only for names with
+    bytes that are not printable UTF-8, where rosbag fails or prints them raw).
+    """
     rows: list[tuple[str, str]] = []
     if summary.path:
-        rows.append(("path", summary.path))
+        rows.append(("path", shown(summary.path)))
     rows.append(("version", "2.0"))
     span = summary.span()
     if span is None:
@@ -238,8 +276,9 @@ def info_text(summary: BagSummary, *, freq: bool = False, tz: datetime.tzinfo | 
         rows.append(("size", human_readable_size(summary.size)))
         rows.append(("messages", str(summary.message_count())))
         rows.extend(_compression_rows(summary.chunks, duration))
-        types = summary.types()
-        topics = topic_rows(summary, freq)
+        types = [(shown(t), shown(md5), d) for t, md5, d in summary.types()]
+        topics = [dataclasses.replace(r, topic=shown(r.topic), datatype=shown(r.datatype))
+                  for r in topic_rows(summary, freq)]
         type_w = max(len(t[0]) for t in types)
         topic_w = max(len(r.topic) for r in topics)
         count_w = max(len(str(r.count)) for r in topics)
@@ -265,7 +304,7 @@ def info_text(summary: BagSummary, *, freq: bool = False, tz: datetime.tzinfo | 
 def _yaml_text(summary: BagSummary, freq: bool) -> str:
     lines = []
     if summary.path:
-        lines.append(f"path: {summary.path}")
+        lines.append(f"path: {_yaml_str(summary.path)}")
     lines.append("version: 2.0")
     span = summary.span()
     if span is None:
@@ -287,10 +326,10 @@ def _yaml_text(summary: BagSummary, freq: bool) -> str:
             lines.append(f"compressed: {sum(c.compressed_size for c in chunks)}")
     lines.append("types:")
     for datatype, md5, _def in summary.types():
-        lines += [f"    - type: {datatype}", f"      md5: {md5}"]
+        lines += [f"    - type: {_yaml_str(datatype)}", f"      md5: {_yaml_str(md5)}"]
     lines.append("topics:")
     for r in topic_rows(summary, freq):
-        lines += [f"    - topic: {r.topic}", f"      type: {r.datatype}",
+        lines += [f"    - topic: {_yaml_str(r.topic)}", f"      type: {_yaml_str(r.datatype)}",
                   f"      messages: {r.count}"]
         if r.connections > 1:
             lines.append(f"      connections: {r.connections}")
@@ -348,7 +387,12 @@ def info_yaml(summary: BagSummary, *, freq: bool = False, key: str | None = None
     if not key:
         return text
     try:
-        value = _lookup(yaml.safe_load(text), key)
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:  # ddes quotes every odd name, so this is a ddes bug
+        raise ROSBagFormatException(f"the YAML info of the bag does not parse, so key {key!r} "
+                                    f"cannot be looked up: {exc}") from None
+    try:
+        value = _lookup(data, key)
     except (KeyError, IndexError):
         raise DdesKeyError(f'Error getting key "{key}"') from None
     return _print_yaml(value)

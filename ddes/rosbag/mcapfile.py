@@ -18,6 +18,7 @@ message_definition) plus ``callerid``/``latching`` when present.
 
 from __future__ import annotations
 
+import dataclasses
 import heapq
 import io
 from collections.abc import Mapping
@@ -25,12 +26,12 @@ from operator import itemgetter
 from typing import IO, TYPE_CHECKING
 
 from ddes.errors import DdesError, ROSBagException, ROSBagFormatException
-from ddes.rosbag.bagfile import Decoded, Entry, FileStats
+from ddes.rosbag.bagfile import Decoded, Entry, FileStats, InflateBudget, inflate
 from ddes.rosbag.records import ConnectionInfo
 from ddes.time.units import to_ns
 
 if TYPE_CHECKING:
-    from mcap.records import Channel, Schema
+    from mcap.records import Channel, Chunk, McapRecord, Schema
     from mcap.writer import CompressionType
 
 __all__ = ["MCAP_MAGIC", "decode_mcap", "encode_mcap"]
@@ -40,6 +41,7 @@ _time_key = itemgetter(0)
 _TIME_LIMIT = to_ns(2**32)  # ROS 1 times are u32 seconds
 _LATCH_OUT: dict[str, str] = {"1": "true", "0": "false"}
 _LATCH_IN: dict[str, str] = {"true": "1", "false": "0"}
+_READ_COMPRESSIONS = ("none", "lz4", "zstd")
 
 
 def _compression(kind: str) -> CompressionType:
@@ -110,25 +112,63 @@ def _header(channel: Channel, schema: Schema, definition: str) -> dict[str, str]
     return header
 
 
-def decode_mcap(buf: bytes, name: str) -> Decoded:
-    """Read an MCAP file of the ``ros1`` profile (``name`` names it in errors)."""
-    from mcap.records import Channel, Message, Schema
+def _chunk_records(chunk: Chunk, at: int, name: str, budget: InflateBudget) -> list[McapRecord]:
+    """The records of ``chunk``, decompressed by ddes with the declared size as a hard cap.
+
+    The mcap library inflates lz4 chunks without any bound; ddes checks the
+    chunk's ``uncompressed_size`` against the budget first, then inflates at
+    most that many bytes (:func:`~ddes.rosbag.bagfile.inflate`).
+    """
+    from mcap.stream_reader import breakup_chunk
+
+    where = f"{name}: chunk at offset {at}"
+    kind = chunk.compression or "none"
+    if kind not in _READ_COMPRESSIONS:
+        raise ROSBagException(f"{where}: unsupported MCAP compression {kind[:40]!r}; ddes reads "
+                              "'' (none), 'lz4' and 'zstd'")
+    if kind == "none":
+        raw = bytes(chunk.data)
+    else:
+        budget.take(chunk.uncompressed_size, len(chunk.data), kind, where)
+        raw = inflate(kind, bytes(chunk.data), chunk.uncompressed_size, where)
+    return list(breakup_chunk(dataclasses.replace(chunk, compression="", data=raw),
+                              validate_crc=True))
+
+
+def decode_mcap(buf: bytes, name: str, *, max_chunk_size: int | None = None) -> Decoded:
+    """Read an MCAP file of the ``ros1`` profile (``name`` names it in errors).
+
+    ``max_chunk_size`` bounds what compressed chunks may inflate to (see
+    :class:`~ddes.rosbag.bagfile.InflateBudget`).
+    """
+    from mcap.records import Channel, Chunk, Message, Schema
     from mcap.stream_reader import StreamReader
 
+    budget = InflateBudget(len(buf), max_chunk_size)
     if not buf.startswith(MCAP_MAGIC):
         raise ROSBagFormatException(f"{name}: not an MCAP file (it starts with {buf[:8]!r})")
     schemas: dict[int, Schema] = {}
     chans: dict[int, Channel] = {}
     messages: list[tuple[int, int, bytes]] = []
     try:
-        reader = StreamReader(io.BytesIO(buf), validate_crcs=True, record_size_limit=len(buf))
-        for record in reader.records:
-            if isinstance(record, Schema):
-                schemas[record.id] = record
-            elif isinstance(record, Channel):
-                chans.setdefault(record.id, record)
-            elif isinstance(record, Message):
-                messages.append((record.log_time, record.channel_id, bytes(record.data)))
+        stream = io.BytesIO(buf)
+        reader = StreamReader(stream, validate_crcs=True, record_size_limit=len(buf),
+                              emit_chunks=True)
+        for top in reader.records:
+            if isinstance(top, Chunk):
+                # the chunk record ends where the stream stands: opcode, length, 5 fixed fields,
+                # the compression string and the records (ddes and mcap write no padding)
+                at = stream.tell() - (9 + 40 + len(top.compression.encode()) + len(top.data))
+                inner: list[McapRecord] = _chunk_records(top, at, name, budget)
+            else:
+                inner = [top]
+            for record in inner:
+                if isinstance(record, Schema):
+                    schemas[record.id] = record
+                elif isinstance(record, Channel):
+                    chans.setdefault(record.id, record)
+                elif isinstance(record, Message):
+                    messages.append((record.log_time, record.channel_id, bytes(record.data)))
     except DdesError:
         raise
     except Exception as exc:  # noqa: BLE001 - the mcap library raises many kinds on bad input

@@ -12,8 +12,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import ddes
-from ddes.errors import DigestError
-from ddes.errors import DdesTypeError, DdesValueError
+from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import TRACE_KINDS
 from ddes.kernel.trace import Trace, TraceEvent, TraceSelection
 
