@@ -23,12 +23,28 @@ import struct
 from collections.abc import Callable
 from typing import Any
 
-from ddes.errors import DdesAttributeError, DdesTypeError, DeserializationError
+from ddes.errors import DdesAttributeError, DdesTypeError, DeserializationError, InvalidMsgSpec
 from ddes.msg.message import FieldInfo, Message
 from ddes.msg.spec import SIMPLE_STRUCT, MsgSpec, parse_type, python_safe_name
 from ddes.time.rostime import Duration, Time
 
-__all__ = ["field_infos", "generate_message_class"]
+__all__ = [
+    "MAX_DEFAULT_ELEMENTS",
+    "MAX_FLAT_FIELDS",
+    "MAX_ZERO_SIZE_ELEMENTS",
+    "field_infos",
+    "generate_message_class",
+]
+
+#: Most fields one generated class may inline (nested messages are flattened, so a type
+#: that uses ``B`` ten times, where ``B`` uses ``C`` ten times ... grows exponentially).
+MAX_FLAT_FIELDS = 20_000
+#: Most elements (summed over fixed-length arrays, nested ones multiplied) a default
+#: instance of one type may hold: ``int32[4000000000] x`` would otherwise allocate 32 GB.
+MAX_DEFAULT_ELEMENTS = 1 << 22
+#: Most elements a variable-length array of a type with no wire bytes (``std_msgs/Empty[]``)
+#: may declare on the wire: such a count is not bounded by the data's length.
+MAX_ZERO_SIZE_ELEMENTS = 1 << 20
 
 _INT_RANGES = {
     "int8": (-(2**7), 2**7 - 1), "byte": (-(2**7), 2**7 - 1), "uint8": (0, 2**8 - 1),
@@ -87,6 +103,26 @@ def _struct_failure(msg: Message, exc: Exception) -> DeserializationError:
     )
 
 
+def _too_many(msg: Message, count: int, elem_size: int, have: int) -> DeserializationError:
+    if elem_size:
+        return DeserializationError(
+            f"cannot deserialize {msg._type}: an array declares {count} elements of at least "
+            f"{elem_size} bytes each, but only {have} bytes remain; the data is truncated or "
+            f"corrupt (check that the bytes are a serialized {msg._type} and that the md5sums "
+            "match)"
+        )
+    return DeserializationError(
+        f"cannot deserialize {msg._type}: an array of a type with no fields declares {count} "
+        f"elements, more than ddes.msg.codegen.MAX_ZERO_SIZE_ELEMENTS ({MAX_ZERO_SIZE_ELEMENTS}); "
+        "the data is probably corrupt (raise the limit if it is genuine)"
+    )
+
+
+def _check_zero(msg: Message, count: int) -> None:
+    if count > MAX_ZERO_SIZE_ELEMENTS:
+        raise _too_many(msg, count, 0, 0)
+
+
 def _fixed_len_error(path: str, want: int, got: int) -> ValueError:
     return ValueError(f"field {path} needs exactly {want} elements, got {got}")
 
@@ -130,6 +166,7 @@ class _Source:
             "_to_bytes": _to_bytes, "_pack_array": _pack_array, "_unpack_from":
             struct.unpack_from, "_trunc": _trunc, "_flen": _fixed_len_error,
             "_TypeErr": DdesTypeError, "_AttrErr": DdesAttributeError,
+            "_many": _too_many, "_zero": _check_zero,
         }
         self._counter = 0
         self._structs: dict[str, str] = {}
@@ -159,6 +196,38 @@ class _Source:
 
 def _infos_of(cls: type[Message]) -> tuple[FieldInfo, ...]:
     return cls._fields_info
+
+
+_SCALAR_MIN = {"string": 4, "time": 8, "duration": 8}
+
+
+def _elem_min_size(info: FieldInfo) -> int:
+    """Fewest wire bytes one (non-array) value of ``info``'s type takes."""
+    if info.kind in ("int", "float", "bool", "bytes"):
+        return struct.calcsize("<" + SIMPLE_STRUCT[info.base_type])
+    if info.kind in _SCALAR_MIN:
+        return _SCALAR_MIN[info.kind]
+    return int(getattr(info.cls, "_wire_min", 0))
+
+
+def _measure(infos: tuple[FieldInfo, ...]) -> tuple[int, int, int]:
+    """(fewest wire bytes, fields inlined by codegen, elements of a default instance)."""
+    wire = flat = elems = 0
+    for info in infos:
+        nested = info.kind == "message"
+        sub_flat = int(getattr(info.cls, "_flat_fields", 1)) if nested else 1
+        sub_elems = int(getattr(info.cls, "_default_elements", 1)) if nested else 1
+        flat += sub_flat
+        if not info.is_array:
+            wire += _elem_min_size(info)
+            elems += sub_elems
+        elif info.array_len is None:
+            wire += 4
+            elems += 1
+        else:
+            wire += info.array_len * _elem_min_size(info)
+            elems += info.array_len * max(sub_elems, 1)
+    return wire, flat, elems
 
 
 # --- serialization ---------------------------------------------------------------------
@@ -220,8 +289,11 @@ def _ser_fields(src: _Source, pk: _Packer, infos: tuple[FieldInfo, ...], ctx: st
         src.emit(indent, f"for {item} in {tmp}:")
         inner = _Packer(src)
         elem = info._replace(is_array=False, array_len=None)
+        body_start = len(src.lines)
         _ser_scalar(src, inner, elem, item, indent + 1, where + "[]", bare=True)
         inner.flush(indent + 1)
+        if len(src.lines) == body_start:  # a type with no fields: the count, then nothing
+            src.emit(indent + 1, "pass")
 
 
 def _ser_scalar(src: _Source, pk: _Packer, info: FieldInfo, ref: str, indent: int,
@@ -333,6 +405,14 @@ def _de_fields(src: _Source, up: _Unpacker, infos: tuple[FieldInfo, ...], ctx: s
         else:
             length = str(n)
         up.flush(indent)
+        if n is None:
+            # reject a huge count before building anything: each element needs bytes
+            size = _elem_min_size(info)
+            if size:
+                src.emit(indent, f"if _o + {length} * {size} > _n: "
+                                 f"raise _many(self, {length}, {size}, _n - _o)")
+            else:
+                src.emit(indent, f"_zero(self, {length})")
         lst = src.var("_a")
         src.emit(indent, f"{ref} = {lst} = []")
         src.emit(indent, f"for _ in range({length}):")
@@ -392,14 +472,16 @@ def _default_expr(src: _Source, info: FieldInfo) -> str:
 
 def _init_source(src: _Source, cls_name: str, infos: tuple[FieldInfo, ...]) -> None:
     names = [i.name for i in infos]
+    pct = cls_name.replace("%", "%%")  # the messages below are %-formatted
     src.ns["_SLOTS"] = frozenset(names)
     src.emit(0, "def __init__(self, *args, **kwds):")
     if not infos:
         src.emit(1, "if args or kwds:")
         src.emit(2, "if args and kwds: raise _TypeErr("
                     "'Message constructor may only use args OR keywords, not both')")
-        src.ns["_NARGS"] = f"Invalid number of arguments, args should be [] args are%s; {cls_name} has no fields"
-        src.ns["_NOATTR"] = f"%s is not an attribute of {cls_name}; it has no fields"
+        src.ns["_NARGS"] = ("Invalid number of arguments, args should be [] args are%s; "
+                            f"{pct} has no fields")
+        src.ns["_NOATTR"] = f"%s is not an attribute of {pct}; it has no fields"
         src.emit(2, "if args: raise _TypeErr(_NARGS % (args,))")
         src.emit(2, "raise _AttrErr(_NOATTR % (next(iter(kwds)),))")
         return
@@ -412,7 +494,7 @@ def _init_source(src: _Source, cls_name: str, infos: tuple[FieldInfo, ...]) -> N
     src.emit(2, f"if len(args) != {len(infos)}: raise _TypeErr(_NARGS % (args,))")
     src.emit(2, f"{', '.join(local)}, = args")
     src.emit(1, "elif kwds:")
-    src.ns["_NOATTR"] = f"%s is not an attribute of {cls_name}; its fields are {', '.join(names)}"
+    src.ns["_NOATTR"] = f"%s is not an attribute of {pct}; its fields are {', '.join(names)}"
     src.emit(2, "for _k in kwds:")
     src.emit(3, "if _k not in _SLOTS: raise _AttrErr(_NOATTR % (_k,))")
     src.emit(2, "_get = kwds.get")
@@ -434,6 +516,21 @@ def generate_message_class(spec: MsgSpec, md5sum: str, full_text: str,
     nested message type.
     """
     infos = field_infos(spec, resolve)
+    wire_min, flat, elems = _measure(infos)
+    if flat > MAX_FLAT_FIELDS:
+        raise InvalidMsgSpec(
+            f"{spec.filename or spec.full_name}: {spec.full_name} has {flat} fields once its "
+            f"nested types are expanded, more than ddes.msg.codegen.MAX_FLAT_FIELDS "
+            f"({MAX_FLAT_FIELDS}); the definition nests types too often (raise the limit if "
+            "it is genuine)"
+        )
+    if elems > MAX_DEFAULT_ELEMENTS:
+        raise InvalidMsgSpec(
+            f"{spec.filename or spec.full_name}: a default {spec.full_name} holds {elems} "
+            f"array elements (fixed-length arrays, nested ones multiplied), more than "
+            f"ddes.msg.codegen.MAX_DEFAULT_ELEMENTS ({MAX_DEFAULT_ELEMENTS}); use a "
+            "variable-length array T[] (or raise the limit if it is genuine)"
+        )
     src = _Source()
     cls_name = spec.short_name
     _init_source(src, cls_name, infos)
@@ -463,7 +560,16 @@ def generate_message_class(spec: MsgSpec, md5sum: str, full_text: str,
 
     code = "\n".join(src.lines) + "\n"
     ns = src.ns
-    exec(compile(code, f"<ddes.msg generated {spec.full_name}>", "exec"), ns)  # noqa: S102
+    try:
+        compiled = compile(code, f"<ddes.msg generated {spec.full_name}>", "exec")
+    except (SyntaxError, ValueError, RecursionError, MemoryError) as exc:
+        # the parser only lets legal names through, so this is a ddes bug or a hostile spec
+        raise InvalidMsgSpec(
+            f"{spec.filename or spec.full_name}: cannot generate a class for "
+            f"{spec.full_name!r}: {type(exc).__name__}: {exc}; check its field names and "
+            "types (letters, digits and '_' only)"
+        ) from None
+    exec(compiled, ns)  # noqa: S102
 
     attrs: dict[str, Any] = {
         "__slots__": tuple(i.name for i in infos),
@@ -479,6 +585,9 @@ def generate_message_class(spec: MsgSpec, md5sum: str, full_text: str,
         "_spec": spec,
         "_fields_info": infos,
         "_generated_source": code,
+        "_wire_min": wire_min,
+        "_flat_fields": flat,
+        "_default_elements": elems,
         "__init__": ns["__init__"],
         "_serialize_to_bytes": ns["_serialize_to_bytes"],
         "_deserialize_from": ns["_deserialize_from"],

@@ -106,30 +106,30 @@ def check_type_name(type_: str) -> str | None:
     """Why ``type_`` is not a legal field type, or None if it is."""
     base = bare_msg_type(type_)
     if not is_legal_resource_name(base):
-        return f"'{type_}' is not a legal message field type"
+        return f"{type_!r} is not a legal message field type"
     if base.count("/") > 1:
-        return f"'{type_}' is not a legal message field type (more than one '/')"
+        return f"{type_!r} is not a legal message field type (more than one '/')"
     if "/" in base:
         pkg, name = base.split("/")
         if not is_legal_base_name(pkg) or not is_legal_base_name(name):
-            return f"'{type_}' is not a legal message field type"
+            return f"{type_!r} is not a legal message field type"
     suffix = type_[len(base):]
     depth = 0
     for ch in suffix:
         if depth == 0:
             if ch != "[":
-                return f"'{type_}' is not a legal message field type"
+                return f"{type_!r} is not a legal message field type"
             depth = 1
         elif ch == "]":
             depth = 0
-        elif not ch.isdigit():
-            return f"'{type_}' has an invalid array size (use T[] or T[n])"
+        elif ch not in "0123456789":
+            return f"{type_!r} has an invalid array size (use T[] or T[n])"
     if depth:
-        return f"'{type_}' has an unclosed array bracket"
+        return f"{type_!r} has an unclosed array bracket"
     try:
         parse_type(type_)
     except ValueError as exc:
-        return f"'{type_}': {exc}"
+        return f"{type_!r}: {exc}"
     return None
 
 
@@ -148,7 +148,7 @@ def _parse_constant(orig: str, where: str, line: int) -> Constant:
     type_ = tokens[0]
     if type_ not in PRIMITIVE_TYPES:
         raise InvalidMsgSpec(
-            f"{where}: '{type_}' is not a legal constant type; constants must have one "
+            f"{where}: {type_!r} is not a legal constant type; constants must have one "
             f"of the types {', '.join(PRIMITIVE_TYPES)}"
         )
     if type_ == "string":
@@ -167,7 +167,7 @@ def _parse_constant(orig: str, where: str, line: int) -> Constant:
         name, value = pieces
     if not is_legal_base_name(name):
         raise InvalidMsgSpec(
-            f"{where}: '{name}' is not a legal constant name; use a letter followed by "
+            f"{where}: {name!r} is not a legal constant name; use a letter followed by "
             "letters, digits or '_'"
         )
     try:
@@ -190,7 +190,7 @@ def _parse_field(orig: str, package: str, where: str, line: int) -> Field:
     type_, name = tokens
     if not is_legal_base_name(name):
         raise InvalidMsgSpec(
-            f"{where}: '{name}' is not a legal message field name; use a letter followed "
+            f"{where}: {name!r} is not a legal message field name; use a letter followed "
             "by letters, digits or '_'"
         )
     reason = check_type_name(type_)
@@ -204,12 +204,33 @@ def _parse_field(orig: str, package: str, where: str, line: int) -> Field:
     return Field(type_, name, line)
 
 
+def _check_text(text: str, origin: str, first_line: int = 1) -> None:
+    """InvalidMsgSpec if ``text`` is not text that UTF-8 can hold (a lone surrogate).
+
+    Such characters come from bytes decoded with ``errors='surrogateescape'``;
+    they cannot be hashed into an md5 sum or written to a bag.
+    """
+    if not isinstance(text, str):
+        raise InvalidMsgSpec(f"{origin}: a message definition must be str, not "
+                             f"{type(text).__name__}")
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        line = first_line + text.count("\n", 0, exc.start)
+        raise InvalidMsgSpec(
+            f"{origin}:{line}: character {text[exc.start]!r} at offset {exc.start} is not "
+            "valid Unicode text (a lone surrogate, e.g. from undecodable bytes); message "
+            "definitions must be UTF-8: fix or remove it"
+        ) from None
+
+
 def parse_msg(text: str, full_name: str, *, filename: str = "", first_line: int = 1) -> MsgSpec:
     """Parse .msg text for type ``full_name`` (``pkg/Type``) into a :class:`MsgSpec`.
 
     ``first_line`` numbers the first line of ``text`` in error messages (for
     the pieces of a .srv or .action file).
     """
+    _check_text(text, filename or full_name, first_line)
     package, _ = package_resource_name(full_name)
     fields: list[Field] = []
     constants: list[Constant] = []
@@ -281,6 +302,7 @@ def _check_separators(kind: str, text: str, filename: str, full_name: str, want:
 
 def parse_srv(text: str, full_name: str, *, filename: str = "") -> SrvSpec:
     """Parse .srv text for service ``full_name`` into request and response specs."""
+    _check_text(text, filename or full_name)
     _check_separators("srv", text, filename, full_name, 1)
     pieces = split_sections(text)
     (req_text, req_line), (resp_text, resp_line) = pieces
@@ -296,6 +318,7 @@ def action_message_texts(text: str, name: str, *, filename: str = "") -> dict[st
     Keys are the suffixes (``Goal``, ``ActionGoal`` ...); ``name`` is the
     action's base name (``Fibonacci``).
     """
+    _check_text(text, filename or name)
     _check_separators("action", text, filename, name, 2)
     pieces = split_sections(text)
     (goal, _), (result, _), (feedback, _) = pieces

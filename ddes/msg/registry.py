@@ -57,6 +57,7 @@ from ddes.rospack import PackageNotFound, RosPack, env_package_path
 from ddes.time.rostime import Duration, Time
 
 __all__ = [
+    "MAX_NESTING_DEPTH",
     "MessageRegistry",
     "default_registry",
     "get_message_class",
@@ -66,6 +67,34 @@ __all__ = [
 ]
 
 _KIND_EXT = {"msg": ".msg", "srv": ".srv", "action": ".action"}
+
+#: Deepest chain of nested message types ddes builds (``A`` holds a ``B`` holds a ``C``...).
+#: Real types nest fewer than 10 deep; every tool that walks a message recurses per level.
+MAX_NESTING_DEPTH = 64
+
+
+def read_definition(path: Path) -> str:
+    """The text of a .msg/.srv/.action file; bytes that are not UTF-8 raise InvalidMsgSpec.
+
+    genmsg opens the file in the locale's encoding (UTF-8 on ROS systems) and
+    lets a ``UnicodeDecodeError`` escape; ddes names the file, line and byte.
+    """
+    data = path.read_bytes()
+    return decode_definition(data, str(path))
+
+
+def decode_definition(data: bytes, origin: str) -> str:
+    """``data`` decoded as UTF-8, or InvalidMsgSpec naming ``origin``, line and byte offset."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        bad = data[exc.start:exc.end]
+        raise InvalidMsgSpec(
+            f"{origin}:{line}: invalid UTF-8 byte{'s' if len(bad) > 1 else ''} {bad!r} at "
+            f"byte offset {exc.start} ({exc.reason}); message definitions must be UTF-8 text: "
+            "re-save the file as UTF-8 (or remove the byte, e.g. from a comment)"
+        ) from None
 
 
 def _split_name(name: str, what: str) -> tuple[str, str]:
@@ -251,7 +280,7 @@ class MessageRegistry:
         tried = [str(path)]
         spec: MsgSpec | None = None
         if path.is_file():
-            spec = parse_msg(path.read_text(encoding="utf-8"), full, filename=str(path))
+            spec = parse_msg(read_definition(path), full, filename=str(path))
         else:
             for suffix in ACTION_SUFFIXES:
                 stem = base[: -len(suffix)]
@@ -281,7 +310,7 @@ class MessageRegistry:
             if not path.is_file():
                 raise MsgNotFound(
                     f"Cannot locate action [{base}] in package [{pkg}]; searched {path}")
-            spec = parse_action(path.read_text(encoding="utf-8"), f"{pkg}/{base}",
+            spec = parse_action(read_definition(path), f"{pkg}/{base}",
                                 filename=str(path))
         self._actions[type_name] = spec
         return spec
@@ -298,7 +327,7 @@ class MessageRegistry:
             if not path.is_file():
                 raise MsgNotFound(
                     f"Cannot locate service [{base}] in package [{pkg}]; searched {path}")
-            spec = parse_srv(path.read_text(encoding="utf-8"), f"{pkg}/{base}",
+            spec = parse_srv(read_definition(path), f"{pkg}/{base}",
                              filename=str(path))
         self._srv_specs[type_name] = spec
         return spec
@@ -308,6 +337,13 @@ class MessageRegistry:
         """Load every dependency of ``spec``; unknown or circular types are errors."""
         if spec.full_name in self._checked:
             return
+        if len(stack) >= MAX_NESTING_DEPTH:
+            chain = " -> ".join((*stack[:3], "...", *stack[-2:], spec.full_name))
+            raise InvalidMsgSpec(
+                f"{spec.filename or spec.full_name}: message types nest more than "
+                f"ddes.msg.registry.MAX_NESTING_DEPTH ({MAX_NESTING_DEPTH}) deep ({chain}); "
+                "flatten the definitions (or raise the limit if they are genuine)"
+            )
         for f in spec.fields:
             base = bare_msg_type(f.type)
             if is_builtin(base):
@@ -541,10 +577,31 @@ def get_service_class(type_name: str,
     return (default_registry() if registry is None else registry).get_service_class(type_name)
 
 
-def parse_definition(type_name: str, full_text: str) -> list[MsgSpec]:
-    """Split a ``message_definition`` into the specs of the type and its dependencies."""
-    sections = full_text.split(f"\n{SEPARATOR}\n")
+def _definition_type(name: object, origin: str) -> str:
+    if not isinstance(name, str):
+        raise InvalidMsgSpec(f"{origin}: the type must be a string like 'pkg/Type', "
+                             f"got {type(name).__name__} {name!r:.80}")
+    pkg, sep, base = name.partition("/")
+    if not sep or not is_legal_base_name(pkg) or not is_legal_base_name(base):
+        raise InvalidMsgSpec(f"{origin}: {name!r:.80} is not a legal message type; write it "
+                             "as 'pkg/Type' (letters, digits and '_')")
+    return name
+
+
+def parse_definition(type_name: str, full_text: str | bytes) -> list[MsgSpec]:
+    """Split a ``message_definition`` into the specs of the type and its dependencies.
+
+    ``full_text`` may be bytes (a bag's connection header): it must be UTF-8.
+    Every failure is :class:`~ddes.errors.InvalidMsgSpec`.
+    """
+    type_name = _definition_type(type_name, "<message_definition>")
     origin = f"<message_definition of {type_name}>"
+    if isinstance(full_text, (bytes, bytearray, memoryview)):
+        full_text = decode_definition(bytes(full_text), origin)
+    elif not isinstance(full_text, str):
+        raise InvalidMsgSpec(f"{origin}: the definition must be str or bytes, not "
+                             f"{type(full_text).__name__}")
+    sections = full_text.split(f"\n{SEPARATOR}\n")
     specs = [parse_msg(sections[0], type_name, filename=origin)]
     for section in sections[1:]:
         head, _, text = section.partition("\n")
@@ -554,13 +611,15 @@ def parse_definition(type_name: str, full_text: str) -> list[MsgSpec]:
                 f"'MSG: pkg/Type', found {head[:60]!r}"
             )
         name = head[5:].strip()
+        if name != HEADER:
+            name = _definition_type(name, origin)
         specs.append(parse_msg(text, HEADER_FULL_NAME if name == HEADER else name,
                                filename=f"{origin} section {name}"))
     return specs
 
 
 @functools.lru_cache(maxsize=256)
-def _definition_class(type_name: str, full_text: str) -> type[Message]:
+def _definition_class(type_name: str, full_text: str | bytes) -> type[Message]:
     # A private registry with no package path and no parent: every spec comes
     # from the text, so the class depends on (type_name, full_text) only and
     # may be shared by every registry (see the module docstring).
@@ -570,7 +629,7 @@ def _definition_class(type_name: str, full_text: str) -> type[Message]:
     return registry.get_message_class(type_name)
 
 
-def message_class_from_definition(type_name: str, full_text: str, *,
+def message_class_from_definition(type_name: str, full_text: str | bytes, *,
                                   registry: MessageRegistry | None = None) -> type[Message]:
     """A class for ``type_name`` built from its ``message_definition`` text.
 
@@ -582,6 +641,10 @@ def message_class_from_definition(type_name: str, full_text: str, *,
     nothing else (no package path), so the cache is shared safely by all
     registries.
     """
+    if isinstance(full_text, (bytearray, memoryview)):
+        full_text = bytes(full_text)  # hashable, for the cache
+    if not isinstance(type_name, str) or not isinstance(full_text, (str, bytes)):
+        parse_definition(type_name, full_text)  # raises InvalidMsgSpec naming the bad value
     cls = _definition_class(type_name, full_text)
     if registry is not None:
         try:

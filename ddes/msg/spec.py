@@ -56,8 +56,8 @@ SIMPLE_STRUCT: dict[str, str] = {
     "float32": "f", "float64": "d", "char": "B", "byte": "b",
 }
 
-_RESOURCE_RE = re.compile(r"^[A-Za-z][\w/]*$")
-_BASE_RE = re.compile(r"^[A-Za-z]\w*$")
+_RESOURCE_RE = re.compile(r"[A-Za-z][\w/]*\Z")  # \Z: '$' would accept a trailing newline
+_BASE_RE = re.compile(r"[A-Za-z]\w*\Z")
 
 
 def is_legal_resource_name(name: str) -> bool:
@@ -102,7 +102,7 @@ def parse_type(type_: str) -> tuple[str, bool, int | None]:
     if type_.endswith("[]"):
         return type_[:-2], True, None
     inner = parts[1][:-1] if parts[1].endswith("]") else parts[1]
-    if not inner.isdigit() or not type_.endswith("]"):
+    if not (inner.isdigit() and inner.isascii()) or not type_.endswith("]"):
         raise ValueError(f"invalid array dimension: [{inner}]")
     return parts[0], True, int(inner)
 
