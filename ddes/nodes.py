@@ -112,10 +112,10 @@ def start_node(
                 node.shutdown("main loop returned")
                 return
             exc = ev.value
-            world.record("node.exit", node.name, code=1, error=f"{type(exc).__name__}: {exc}")
-            node.shutdown(f"main loop raised {type(exc).__name__}: {exc}")
-            if not world.raise_callback_errors:
-                ev.defused = True  # recorded; the world keeps running
+            if world.strict or not isinstance(exc, Exception):
+                return  # the world's failure policy raises it out of run()
+            node.report_crash(exc)
+            ev.defused = True  # logged and recorded; the world keeps running
 
         proc.callbacks.append(finished)
     return node

@@ -29,6 +29,18 @@ settings.register_profile(
 settings.load_profile("ddes")
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _strict_worlds() -> Any:
+    """The suite's worlds are strict: an assertion failing inside a callback fails its test.
+
+    Tests of rospy's default rule (log and go on) say ``World(strict=False)``.
+    """
+    from ddes.graph.failures import strict_worlds
+
+    with strict_worlds():
+        yield
+
+
 def _system_python() -> str | None:
     rosbag = shutil.which("rosbag")
     if rosbag:

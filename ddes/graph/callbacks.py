@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING, Protocol
 import simpy
 
 from ddes.errors import DdesValueError
+from ddes.graph.failures import print_to_stderr, user_traceback
 
 if TYPE_CHECKING:
     from simpy.events import ProcessGenerator
@@ -241,15 +242,23 @@ class CallbackQueue:
 
     # -- errors and shutdown -----------------------------------------------------------------
     def report_error(self, fn: Callback, exc: BaseException) -> None:
-        """Record a failed callback; re-raise it if the world says so."""
+        """A callback raised: rospy's "bad callback" log, or (strict) stop the run with it.
+
+        See :mod:`ddes.graph.failures`.
+        """
         node = self.node
         world = node.world
         name = getattr(fn, "__qualname__", repr(fn))
         world.record("callback.exception", node.name, callback=name,
                      error=f"{type(exc).__name__}: {exc}")
         world.callback_errors.append((node.name, name, exc, traceback.format_exc()))
-        if world.raise_callback_errors:
+        if world.strict:
+            world.note_failure(exc)
             raise exc
+        node.logerr("bad callback: %s\n%s", name, user_traceback(exc))
+        if world.log_output is None:
+            print_to_stderr(f"[ERROR] [{node.name}]: bad callback: {name}\n"
+                            + "".join(traceback.format_exception(exc)).rstrip("\n"))
 
     def close(self) -> None:
         """The node shut down: queued callbacks are dropped, nothing new runs."""

@@ -36,6 +36,7 @@ import simpy
 
 from ddes.errors import DdesTypeError, DdesValueError, NodeShutdownError
 from ddes.graph.callbacks import CallbackQueue, SpinnerPolicy
+from ddes.graph.failures import NODE_OF_PROCESS
 from ddes.graph.names import NameResolver, anonymous_name, is_legal_base_name, parse_node_args
 from ddes.graph.rosout import DEBUG, ERROR, FATAL, INFO, WARN, NodeLogger
 from ddes.graph.timer import Timer, TimerEvent
@@ -267,7 +268,24 @@ class Node:
     def process(self, generator: ProcessGenerator) -> simpy.Process:
         """Start a process belonging to this node (e.g. its main loop)."""
         self.check_alive("start a process")
-        return self.world.env.process(generator)
+        proc = self.world.env.process(generator)
+        setattr(proc, NODE_OF_PROCESS, self)  # its failure is this node's crash
+        return proc
+
+    def report_crash(self, exc: BaseException) -> None:
+        """The node's main raised: log it as a dying rospy script would, and shut down.
+
+        Records ``node.exit`` with ``code=1``; the other nodes keep running.
+        """
+        from ddes.graph.failures import print_to_stderr, user_traceback
+
+        text = (f"process has died: the main of {self.name} raised {type(exc).__name__}; "
+                f"the node shuts down\n{user_traceback(exc)}")
+        self.logerr("%s", text)
+        if self.world.log_output is None:
+            print_to_stderr(f"[ERROR] [{self.name}]: {text}")
+        self.world.record("node.exit", self.name, code=1, error=f"{type(exc).__name__}: {exc}")
+        self.shutdown(f"main raised {type(exc).__name__}: {exc}")
 
     # -- topics ----------------------------------------------------------------------------------
     def advertise(self, name: str, data_class: _C, queue_size: int | None = None,

@@ -14,7 +14,10 @@ import os
 from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, ClassVar, TypedDict
 
+import simpy
+
 from ddes.errors import ROSTopicException
+from ddes.graph.failures import NODE_OF_PROCESS, STRICT_DEFAULT, user_frames
 from ddes.graph.master import Master
 from ddes.graph.params import ParamServer
 from ddes.graph.topics import (
@@ -30,6 +33,8 @@ from ddes.kernel.kernel import Kernel
 from ddes.kernel.runaway import DEFAULT_WALL_BUDGET
 from ddes.msg.registry import MessageRegistry, default_registry
 from ddes.rospack import RosPack
+from ddes.time.rostime import Duration
+from ddes.time.units import TimeLike
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
@@ -88,6 +93,12 @@ class World(Kernel):
     instant_budget:
         Events one simulated instant may hold before :meth:`run` stops a
         zero-time livelock with RunawayError (default 10,000,000; None: off).
+    strict:
+        False (rospy's rule): a failing callback is logged ("bad callback")
+        and a failing node main shuts that node down; the world runs on.
+        True: :meth:`run` raises the first such exception, with the user's
+        frames on top.  None takes the default of :func:`strict_worlds`
+        (False unless inside one).
     """
 
     #: The class :meth:`create_node` makes (the ``ddes.World`` facade makes ``ddes.Node``).
@@ -96,7 +107,8 @@ class World(Kernel):
     def __init__(self, seed: int = 0, *,
                  package_path: Iterable[str | os.PathLike[str]] = (),
                  wall_budget: float | None = DEFAULT_WALL_BUDGET,
-                 instant_budget: int | None = DEFAULT_INSTANT_BUDGET) -> None:
+                 instant_budget: int | None = DEFAULT_INSTANT_BUDGET,
+                 strict: bool | None = None) -> None:
         super().__init__(seed, wall_budget=wall_budget, instant_budget=instant_budget)
         paths = [package_path] if isinstance(package_path, (str, os.PathLike)) else list(package_path)
         #: Message, service and action types of this world (the bundled
@@ -107,9 +119,11 @@ class World(Kernel):
         self._nodes: dict[str, Node] = {}
         #: (node, callback, exception, traceback) of every failed callback.
         self.callback_errors: list[tuple[str, str, BaseException, str]] = []
-        #: Re-raise callback exceptions out of :meth:`run` (default) or only
-        #: record them in the trace and :attr:`callback_errors`.
-        self.raise_callback_errors = True
+        #: Strict: :meth:`run` raises the first exception of user code (a callback, a
+        #: node's main) instead of logging it as rospy does (see ddes.graph.failures).
+        self.strict: bool = STRICT_DEFAULT.get() if strict is None else bool(strict)
+        self._failure: BaseException | None = None
+        self.env.on_failure = self._on_failure
         #: How long a new publisher→subscriber connection takes to set up (ns).
         #: Messages published before it exists are not delivered (as in ROS).
         self.connect_delay_ns: int = 1_000_000
@@ -118,6 +132,46 @@ class World(Kernel):
         self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
         #: The world's master: registry of nodes, topics, services, and the parameters.
         self.master = Master(self)
+
+    # -- failures of user code (ddes.graph.failures) ------------------------------------------
+    @property
+    def raise_callback_errors(self) -> bool:
+        """The older name of :attr:`strict`."""
+        return self.strict
+
+    @raise_callback_errors.setter
+    def raise_callback_errors(self, value: bool) -> None:
+        self.strict = bool(value)
+
+    def note_failure(self, exc: BaseException) -> None:
+        """Strict mode: remember the first failure of user code; :meth:`run` raises it."""
+        if self._failure is None:
+            self._failure = exc
+
+    def _on_failure(self, event: object, exc: BaseException) -> bool:
+        """A failed event nobody waited on: a node's main process that raised."""
+        node = getattr(event, NODE_OF_PROCESS, None)
+        if node is None or not isinstance(exc, Exception):
+            return False
+        if self.strict:
+            self.note_failure(exc)
+            return False
+        node.report_crash(exc)
+        return True
+
+    def run(self, until: TimeLike | Duration | simpy.Event | None = None) -> None:
+        """Run the simulation (see :meth:`ddes.kernel.Kernel.run`).
+
+        In strict mode the first exception of user code ends the run and is
+        raised here, with the user's frames at the top of its traceback.
+        """
+        try:
+            super().run(until)
+        except BaseException:
+            failure, self._failure = self._failure, None
+            if failure is None:
+                raise
+            raise failure.with_traceback(user_frames(failure.__traceback__)) from None
 
     @property
     def connect_delay(self) -> int:

@@ -60,6 +60,9 @@ class NsEnvironment(simpy.Environment):
         self.now_ns: int = initial_time
         #: Events processed so far (the wall-clock watchdog watches it move).
         self.steps = 0
+        #: Called as ``on_failure(event, exception)`` for a failed event nobody waited on;
+        #: returning True means it was handled (SimPy would crash the run).
+        self.on_failure: Callable[[Event, BaseException], bool] | None = None
         #: Most events one instant may hold before the run stops as a zero-time livelock.
         self.instant_budget: int = DEFAULT_INSTANT_BUDGET
         self._same_instant = 0
@@ -98,7 +101,12 @@ class NsEnvironment(simpy.Environment):
             self.schedule(event, URGENT)
             raise
         if not event._ok and not hasattr(event, "_defused"):
-            # The event failed and nobody defused it: crash the run (SimPy's rule).
+            # The event failed and nobody defused it: crash the run (SimPy's rule),
+            # unless the world's failure policy takes it (a node's main process).
+            hook = self.on_failure
+            if hook is not None and hook(event, event._value):
+                event._defused = True
+                return
             exc = type(event._value)(*event._value.args)
             exc.__cause__ = event._value
             raise exc
