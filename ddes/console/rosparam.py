@@ -23,6 +23,7 @@ import yaml
 from ddes.console.toolkit import HelpPrinted, ToolParser, script_resolve_name
 from ddes.errors import DdesError, ROSConsoleError, ROSParamException
 from ddes.graph.names import GLOBALNS, make_global_ns, ns_join
+from ddes.graph.yamlsafe import load_yaml, read_bounded
 from ddes.launch.values import ParamValue
 
 if TYPE_CHECKING:
@@ -209,16 +210,27 @@ def _set_load(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
         name = script_resolve_name("rosparam", arg)
         if options.text_file:
             path = Path(options.text_file)
-            if not path.is_file():
+            if not path.exists():
                 parser.error(f"file '{options.text_file}' does not exist")
-            _set_raw(params, name, path.read_text(encoding="utf-8"), options.verbose, ctx)
+            data = read_bounded(path, what="text file", error=ROSParamException)
+            try:
+                text_value = data.decode("utf-8")
+            except UnicodeDecodeError as exc:
+                raise ROSParamException(
+                    f"text file '{options.text_file}' is not UTF-8 ({exc.reason} at byte "
+                    f"{exc.start}); use --binfile for binary data") from None
+            _set_raw(params, name, text_value, options.verbose, ctx)
         elif options.bin_file:
-            _set_raw(params, name, Path(options.bin_file).read_bytes(), options.verbose, ctx)
+            if not Path(options.bin_file).exists():
+                parser.error(f"file '{options.bin_file}' does not exist")
+            _set_raw(params, name, read_bounded(options.bin_file, what="binary file",
+                                                error=ROSParamException),
+                     options.verbose, ctx)
         else:
             assert arg2 is not None
             text = "!!str" if arg2 == "" else arg2
             try:
-                value = yaml.safe_load(text)
+                value = load_yaml(text)
             except yaml.YAMLError as exc:
                 raise ROSParamException(f"invalid YAML value {arg2!r}: {exc}") from None
             _set_raw(params, name, value, options.verbose, ctx)
@@ -226,7 +238,7 @@ def _set_load(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
     if arg == "-":
         raise ROSParamException("ddes reads no parameters from stdin; give a YAML file")
     path = Path(arg)
-    if not path.is_file():
+    if not path.exists():
         raise ROSParamException(f"file [{arg}] does not exist")
     if options.verbose:
         ctx.print(f"reading parameters from [{arg}]")

@@ -23,15 +23,12 @@ else raises a typed error naming the key, where rospy would fail inside
 
 from __future__ import annotations
 
-import ast
 import copy
-import math
 import os
-import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, cast
+from typing import Any
 
 import yaml
 
@@ -43,6 +40,7 @@ from ddes.errors import (
     ROSParamException,
 )
 from ddes.graph.names import GLOBALNS, SEP, check_name, is_global, is_private, ns_join
+from ddes.graph.yamlsafe import DEFAULT_LIMITS, YamlLimits, load_yaml_all, read_bounded
 
 __all__ = ["XMLRPC_INT_MAX", "XMLRPC_INT_MIN", "ParamServer", "ParamSubscription", "to_xmlrpc"]
 
@@ -108,73 +106,6 @@ def to_xmlrpc(value: object, where: str = "value") -> Any:
         f"use bool, int, float, str, bytes, list or dict (convert numpy scalars with "
         f"int()/float()/bool())"
     )
-
-
-# -- rosparam's YAML dialect -------------------------------------------------------------------
-
-
-def _angle_expr(text: str, what: str) -> float:
-    """Evaluate a small arithmetic expression over numbers and ``pi`` (no eval)."""
-
-    def ev(node: ast.AST) -> float:
-        if isinstance(node, ast.Expression):
-            return ev(node.body)
-        if isinstance(node, ast.Constant) and type(node.value) in (int, float):
-            return float(cast(float, node.value))
-        if isinstance(node, ast.Name) and node.id == "pi":
-            return math.pi
-        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
-            v = ev(node.operand)
-            return v if isinstance(node.op, ast.UAdd) else -v
-        if isinstance(node, ast.BinOp):
-            a, b = ev(node.left), ev(node.right)
-            if isinstance(node.op, ast.Add):
-                return a + b
-            if isinstance(node.op, ast.Sub):
-                return a - b
-            if isinstance(node.op, ast.Mult):
-                return a * b
-            if isinstance(node.op, ast.Div) and b != 0:
-                return a / b
-            if isinstance(node.op, ast.Pow) and abs(b) <= 64:
-                return float(a**b)
-        raise ValueError(text)
-
-    try:
-        return ev(ast.parse(text.strip(), mode="eval"))
-    except (SyntaxError, ValueError, TypeError, OverflowError, RecursionError) as exc:
-        raise ROSParamException(
-            f"invalid {what} expression: {text!r} (use numbers, pi, + - * / and parentheses)"
-        ) from exc
-
-
-def _construct_radians(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-    value = str(loader.construct_scalar(node)).strip()  # type: ignore[arg-type]
-    expr = value[4:-1] if value.startswith("rad(") else value
-    return float(_angle_expr(expr, "radian"))
-
-
-def _construct_degrees(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-    value = str(loader.construct_scalar(node))  # type: ignore[arg-type]
-    expr = value.strip()[4:-1] if value.startswith("deg(") else value
-    try:
-        return float(expr) * math.pi / 180.0
-    except ValueError as exc:
-        raise ROSParamException(f"invalid degree value: {value}") from exc
-
-
-class _RosparamLoader(yaml.SafeLoader):
-    """SafeLoader plus rosparam's ``!degrees``/``!radians`` and ``deg(..)``/``rad(..)``.
-
-    A subclass, so the global ``yaml.SafeLoader`` is left untouched
-    (rosparam registers these on it at import time).
-    """
-
-
-_RosparamLoader.add_constructor("!radians", _construct_radians)
-_RosparamLoader.add_constructor("!degrees", _construct_degrees)
-_RosparamLoader.add_implicit_resolver("!degrees", re.compile(r"^deg\([^\)]*\)$"), ["d"])
-_RosparamLoader.add_implicit_resolver("!radians", re.compile(r"^rad\([^\)]*\)$"), ["r"])
 
 
 # -- subscriptions ------------------------------------------------------------------------------
@@ -412,7 +343,8 @@ class ParamServer:
                 s.callback(name, copy.deepcopy(val))
 
     # -- rosparam load / dump ---------------------------------------------------------------------
-    def load(self, source: str | os.PathLike[str], ns: str = GLOBALNS) -> list[tuple[str, Any]]:
+    def load(self, source: str | os.PathLike[str], ns: str = GLOBALNS, *,
+             limits: YamlLimits = DEFAULT_LIMITS) -> list[tuple[str, Any]]:
         """Load YAML as ``rosparam load`` does; ``source`` is YAML text or a path.
 
         A ``str`` is YAML text; a :class:`pathlib.Path` (any ``os.PathLike``)
@@ -421,20 +353,29 @@ class ParamServer:
         (rosparam's ``set_param_raw``), so an empty dict sets nothing;
         anything else replaces the value at ``ns``.  ``!degrees 90``,
         ``!radians pi/2``, ``deg(90)`` and ``rad(pi)`` become radians.
-        Returns the ``(namespace, document)`` pairs loaded.
+        Returns the ``(namespace, document)`` pairs loaded.  ``limits`` bound
+        the file size, alias expansion and nesting (see
+        :mod:`ddes.graph.yamlsafe`); past them :class:`~ddes.errors.ResourceLimitError`.
         """
         if isinstance(source, os.PathLike):
             path = Path(source)
-            if not path.is_file():
+            if not path.exists():
                 raise ROSParamException(f"file [{path}] does not exist")
-            text = path.read_text(encoding="utf-8")
+            data = read_bounded(path, what="parameter file", error=ROSParamException,
+                                limit=limits.max_bytes)
+            try:
+                text = data.decode("utf-8")
+            except UnicodeDecodeError as exc:
+                raise ROSParamException(
+                    f"parameter file [{path}] is not UTF-8 text ({exc.reason} at byte "
+                    f"{exc.start}); save it as UTF-8") from None
         elif isinstance(source, str):
             text = source
         else:
             raise DdesTypeError(f"load needs YAML text (str) or a path, got {source!r}")
         base = self._key(ns)
         try:
-            docs = list(yaml.load_all(text, Loader=_RosparamLoader))
+            docs = load_yaml_all(text, angles=True, limits=limits)
         except yaml.YAMLError as exc:
             raise ROSParamException(f"invalid YAML: {exc}") from exc
         loaded: list[tuple[str, Any]] = []

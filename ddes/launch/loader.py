@@ -24,10 +24,10 @@ import random
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from pathlib import Path
 
-from ddes.errors import DdesValueError, ROSLaunchException
+from ddes.errors import DdesValueError, ResourceLimitError, ROSLaunchException
 from ddes.graph.names import canonicalize_name, get_ros_namespace, is_legal_name
+from ddes.graph.yamlsafe import read_bounded
 from ddes.launch.params import ParamLoader
 from ddes.launch.plan import LaunchPlan, NodeSpec
 from ddes.launch.scope import Scope
@@ -36,10 +36,13 @@ from ddes.launch.values import ParamValue, convert_value, parse_bool_attr, parse
 from ddes.launch.xmltree import Element, parse_xml
 from ddes.rospack import RosPack
 
-__all__ = ["MAX_INCLUDE_DEPTH", "load_launch"]
+__all__ = ["MAX_INCLUDE_DEPTH", "MAX_NESTING", "load_launch"]
 
 #: How deep ``<include>`` may nest (a file including itself would recurse for ever).
 MAX_INCLUDE_DEPTH = 40
+#: How deep ``<group>`` and ``<include>`` may nest in all, across files (each level is a
+#: Python call; roslaunch itself dies with RecursionError near 450 levels).
+MAX_NESTING = 128
 
 _NODE_ATTRS = ("pkg", "type", "machine", "name", "args", "output", "respawn", "respawn_delay",
                "cwd", "ns", "clear_params", "launch-prefix", "required")
@@ -97,6 +100,7 @@ class _Loader:
         self._node_names: set[str] = set()
         self._machines: list[str] = []
         self._located: BaseException | None = None
+        self._depth = 0
 
     # -- errors ----------------------------------------------------------------------------
 
@@ -153,20 +157,24 @@ class _Loader:
     def read_launch(self, path: str, site: tuple[Element, Scope] | None = None,
                     chain: tuple[str, ...] = ()) -> Element:
         """Parse launch file ``path`` (included at ``site``); its root must be <launch>."""
+        included = "".join(f"\n  included from {c}" for c in reversed(chain))
         try:
-            data = Path(path).read_bytes()
+            if not os.path.lexists(path):
+                raise FileNotFoundError(path)
+            # A regular file of at most 16 MiB: /dev/zero, FIFOs and directories are
+            # refused before they are opened.
+            data = read_bounded(path, what="launch file", error=ROSLaunchException)
         except FileNotFoundError:
             msg = (f"launch file not found: {path}. Check the path; "
                    "$(find pkg)/launch/x.launch names a file inside a package")
-        except OSError as exc:
-            msg = f"cannot read launch file {path}: {exc.strerror}"
+        except (ROSLaunchException, ResourceLimitError) as exc:
+            msg = str(exc)
         else:
             try:
                 return self.parse_root(data, path)
             except ROSLaunchException as exc:
-                raise ROSLaunchException(
-                    str(exc) + "".join(f"\n  included from {c}" for c in reversed(chain))
-                ) from None
+                raise ROSLaunchException(str(exc) + included) from None
+        msg += included if site is None else ""
         if site is not None:
             with self.at(*site):
                 raise ROSLaunchException(msg)
@@ -174,7 +182,10 @@ class _Loader:
 
     def parse_root(self, data: bytes, filename: str) -> Element:
         """Parse XML bytes and check the root element."""
-        root = parse_xml(data, filename)
+        try:
+            root = parse_xml(data, filename)
+        except ResourceLimitError as exc:
+            raise ROSLaunchException(str(exc)) from None
         if root.tag != "launch":
             raise ROSLaunchException(
                 f"{filename}:{root.line}: Invalid roslaunch XML syntax: no root <launch> tag "
@@ -230,6 +241,18 @@ class _Loader:
 
     def recurse(self, elements: list[Element], scope: Scope) -> None:
         """Process the tags of a <launch>, <group> or included file, in order."""
+        self._depth += 1
+        try:
+            if self._depth > MAX_NESTING:
+                raise ROSLaunchException(
+                    f"{scope.filename or '<string>'}: <group>s and <include>s nest more than "
+                    f"{MAX_NESTING} deep in all (counting across included files); flatten the "
+                    "groups" + "".join(f"\n  included from {c}" for c in reversed(scope.chain)))
+            self._recurse(elements, scope)
+        finally:
+            self._depth -= 1
+
+    def _recurse(self, elements: list[Element], scope: Scope) -> None:
         handlers = {
             "arg": self.arg_tag, "group": self.group_tag, "node": self.node_tag,
             "test": self.test_tag, "param": self.param_tag, "rosparam": self.rosparam_tag,

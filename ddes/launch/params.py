@@ -19,6 +19,7 @@ import yaml
 
 from ddes.errors import ROSLaunchException
 from ddes.graph.names import canonicalize_name, is_private, ns_join
+from ddes.graph.yamlsafe import read_bounded
 from ddes.launch.plan import LaunchPlan, RosparamCommand
 from ddes.launch.substitution import resolve_args
 from ddes.launch.values import ParamValue, convert_value, load_rosparam_yaml, parse_bool_attr
@@ -110,13 +111,7 @@ class ParamLoader:
             result = convert_value(_read_text(textfile, "textfile"), ptype)
         else:
             assert binfile is not None
-            try:
-                with open(binfile, "rb") as f:
-                    result = f.read()
-            except OSError as exc:
-                raise ROSLaunchException(
-                    f"cannot read binfile [{binfile}]: {exc.strerror}; check the path"
-                ) from None
+            result = _read_bytes(binfile, "binfile")
         key = canonicalize_name(name)
         if is_private(key) or force_local:
             scope.add_private_param(key, result)
@@ -133,7 +128,7 @@ class ParamLoader:
         if cmd not in ("load", "dump", "delete"):
             raise ROSLaunchException("command must be 'load', 'dump', or 'delete'")
         if file_ is not None:
-            if cmd == "load" and not os.path.isfile(file_):
+            if cmd == "load" and not os.path.exists(file_):
                 raise ROSLaunchException(f"file does not exist [{file_}]")
             if cmd == "delete":
                 raise ROSLaunchException("'file' attribute is invalid with 'delete' command.")
@@ -165,14 +160,22 @@ class ParamLoader:
         self.add_tree(full, data)
 
 
-def _read_text(path: str, what: str) -> str:
-    try:
-        with open(path, encoding="utf-8") as f:
-            return f.read()
-    except OSError as exc:
+def _read_bytes(path: str, what: str) -> bytes:
+    """A file for ``textfile=``/``binfile=``/``<rosparam file=>``: regular, at most 16 MiB.
+
+    ``/dev/zero``, FIFOs, directories and devices are refused before they are opened.
+    """
+    if not os.path.lexists(path):
         raise ROSLaunchException(
-            f"cannot read {what} [{path}]: {exc.strerror}; check the path "
+            f"cannot read {what} [{path}]: No such file or directory; check the path "
             "($(find pkg)/config/x.yaml names a file inside a package)"
-        ) from None
+        )
+    return read_bounded(path, what=what, error=ROSLaunchException)
+
+
+def _read_text(path: str, what: str) -> str:
+    data = _read_bytes(path, what)
+    try:
+        return data.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ROSLaunchException(f"{what} [{path}] is not UTF-8 text: {exc}") from None

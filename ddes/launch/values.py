@@ -11,22 +11,20 @@ attributes such as ``respawn``; ``if``/``unless`` use the looser
 that importing ``rosparam`` installs: ``!degrees``, ``!radians``,
 ``deg(90)`` and ``rad(pi/2)``.  rosparam evaluates ``rad(...)`` with
 Python's ``eval``; ddes evaluates only arithmetic on numbers and ``pi``.
-The constructors live on a private ``SafeLoader`` subclass, so PyYAML's
+All launch YAML (``<rosparam>`` and ``<param type="yaml">``) goes through
+the bounded loaders of :mod:`ddes.graph.yamlsafe`, which refuse alias
+bombs, deep nesting and huge text with ``ResourceLimitError``; PyYAML's
 global loaders are never modified.
 """
 
 from __future__ import annotations
 
-import ast
-import math
-import operator
-import re
-from collections.abc import Callable
 from typing import TypeAlias
 
 import yaml
 
 from ddes.errors import ROSLaunchException
+from ddes.graph.yamlsafe import load_yaml
 
 __all__ = ["ParamValue", "convert_value", "load_rosparam_yaml", "parse_bool_attr",
            "parse_float_attr"]
@@ -73,7 +71,7 @@ def convert_value(value: str, type_: str) -> ParamValue:
         )
     if t == "yaml":
         try:
-            loaded: ParamValue = yaml.safe_load(value)
+            loaded: ParamValue = load_yaml(value)
             return loaded
         except yaml.YAMLError as exc:
             raise ROSLaunchException(f"invalid YAML value: {exc}") from None
@@ -109,70 +107,13 @@ def parse_float_attr(value: str | None, default: float, label: str) -> float:
 
 # -- rosparam's YAML extensions ------------------------------------------------------------
 
-_BINOPS: dict[type[ast.operator], Callable[[float, float], float]] = {
-    ast.Add: operator.add,
-    ast.Sub: operator.sub,
-    ast.Mult: operator.mul,
-    ast.Div: operator.truediv,
-    ast.FloorDiv: operator.floordiv,
-    ast.Mod: operator.mod,
-    ast.Pow: operator.pow,
-}
-_UNOPS: dict[type[ast.unaryop], Callable[[float], float]] = {
-    ast.UAdd: operator.pos,
-    ast.USub: operator.neg,
-}
-
-
-def _arith(node: ast.AST) -> float:
-    if isinstance(node, ast.Expression):
-        return _arith(node.body)
-    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(
-        node.value, bool
-    ):
-        return node.value
-    if isinstance(node, ast.Name) and node.id == "pi":
-        return math.pi
-    if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-        return _BINOPS[type(node.op)](_arith(node.left), _arith(node.right))
-    if isinstance(node, ast.UnaryOp) and type(node.op) in _UNOPS:
-        return _UNOPS[type(node.op)](_arith(node.operand))
-    raise ValueError("only numbers, pi, + - * / // % ** and parentheses are allowed")
-
-
-def _construct_radians(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-    value = str(loader.construct_scalar(node)).strip()  # type: ignore[arg-type]
-    expr = value[4:-1] if value.startswith("rad(") else value
-    try:
-        return float(_arith(ast.parse(expr, mode="eval")))
-    except (SyntaxError, ValueError, ArithmeticError) as exc:
-        raise yaml.constructor.ConstructorError(
-            None, None, f"invalid radian expression: {value} ({exc})", node.start_mark
-        ) from None
-
-
-def _construct_degrees(loader: yaml.SafeLoader, node: yaml.Node) -> float:
-    value = str(loader.construct_scalar(node))  # type: ignore[arg-type]
-    expr = value.strip()[4:-1] if value.startswith("deg(") else value
-    try:
-        return float(expr) * math.pi / 180.0
-    except ValueError:
-        raise yaml.constructor.ConstructorError(
-            None, None, f"invalid degree value: {value}", node.start_mark
-        ) from None
-
-
-class _RosparamLoader(yaml.SafeLoader):
-    """SafeLoader plus rosparam's angle tags (configured once, at import)."""
-
-
-_RosparamLoader.add_constructor("!radians", _construct_radians)
-_RosparamLoader.add_constructor("!degrees", _construct_degrees)
-_RosparamLoader.add_implicit_resolver("!degrees", re.compile(r"^deg\([^\)]*\)$"), ["d"])
-_RosparamLoader.add_implicit_resolver("!radians", re.compile(r"^rad\([^\)]*\)$"), ["r"])
-
 
 def load_rosparam_yaml(text: str) -> ParamValue:
-    """Parse ``<rosparam>`` YAML; empty text gives ``{}`` (roslaunch #3162)."""
-    data = yaml.load(text, Loader=_RosparamLoader)  # noqa: S506 - a SafeLoader subclass
-    return {} if data is None else data
+    """Parse ``<rosparam>`` YAML; empty text gives ``{}`` (roslaunch #3162).
+
+    Bounded by :mod:`ddes.graph.yamlsafe` (size, alias expansion, nesting):
+    past a limit :class:`~ddes.errors.ResourceLimitError`, malformed YAML
+    :class:`yaml.YAMLError`.
+    """
+    data = load_yaml(text, angles=True)
+    return {} if data is None else data  # type: ignore[no-any-return]
