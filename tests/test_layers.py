@@ -23,6 +23,7 @@ ROOT = REPO / "ddes" if (REPO / "ddes" / "__init__.py").is_file() else Path(ddes
 #: Bottom to top.  A group of several names is one layer of peers.
 LAYERS: list[tuple[str, ...]] = [
     ("errors", "_version"),
+    ("expr",),
     ("time",),
     ("kernel",),
     ("rospack",),
@@ -44,7 +45,7 @@ SAME_ROOM = {"packages": "nodes"}
 
 #: rosbag's file-format modules: readable without a world.
 ROSBAG_FORMAT = {"bag", "bagfile", "records", "info", "mcapfile", "ops"}
-ROSBAG_FORMAT_MAY_USE = {"errors", "_version", "time", "rospack", "msg", "rosbag"}
+ROSBAG_FORMAT_MAY_USE = {"errors", "_version", "expr", "time", "rospack", "msg", "rosbag"}
 
 RANK = {name: i for i, group in enumerate(LAYERS) for name in group}
 

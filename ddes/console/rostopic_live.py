@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
+from ddes import expr as safe_expr
 from ddes.console.rostopic import MsgEval, _field_class, _topic_class, get_topic_type
 from ddes.console.toolkit import (
     Task,
@@ -27,7 +28,14 @@ from ddes.console.toolkit import (
     script_resolve_name,
     take_background,
 )
-from ddes.errors import DdesError, ROSConsoleError, ROSTopicException
+from ddes.errors import (
+    DdesError,
+    ResourceLimitError,
+    ROSConsoleError,
+    ROSTopicException,
+    UnsafeExpressionError,
+)
+from ddes.time.rostime import Duration, Time
 from ddes.time.units import ns_to_sec
 
 if TYPE_CHECKING:
@@ -37,7 +45,6 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.msg.anymsg import AnyMsg
     from ddes.msg.message import Message
-    from ddes.time.rostime import Time
 
 __all__ = ["TopicHz", "ValueTransform", "echo", "format_hz", "hz", "pub", "strify_for_echo",
            "value_transform_factory"]
@@ -130,16 +137,45 @@ def _field_type_information(cls: type[Message], topic: str, real: str) -> str | 
     return info
 
 
+class UnsafeFilterExpression(ROSConsoleError, UnsafeExpressionError):
+    """A ``--filter`` expression outside ddes's safe subset (both error kinds at once)."""
+
+
+class CostlyFilterExpression(ROSConsoleError, ResourceLimitError):
+    """A ``--filter`` expression that would cost more than ddes allows."""
+
+
+def _filter_error(exc: DdesError, message: str) -> ROSConsoleError:
+    if isinstance(exc, UnsafeExpressionError):
+        return UnsafeFilterExpression(message)
+    if isinstance(exc, ResourceLimitError):
+        return CostlyFilterExpression(message)
+    return ROSConsoleError(message)
+
+
+_TIME_METHODS = frozenset({"to_sec", "to_nsec", "is_zero"})
+
+
 def _filter_fn(expr: str | None, topic: str) -> MsgFilter | None:
+    """``--filter EXPR``: ``m`` (the message) and ``topic`` in ddes's safe subset (no eval).
+
+    rostopic ``eval``s the text with its module's globals; ddes parses it once
+    with :mod:`ddes.expr`, so a typo or a refused construct fails before any
+    message arrives, and a failure on a message is a ``ROSConsoleError``.
+    """
     if not expr:
         return None
     try:
-        code = compile(expr, "<filter>", "eval")
-    except SyntaxError as exc:
-        raise ROSConsoleError(f"invalid --filter expression {expr!r}: {exc.msg}") from None
+        parsed = safe_expr.parse(expr, methods={Time: _TIME_METHODS, Duration: _TIME_METHODS})
+    except DdesError as exc:
+        raise _filter_error(exc, f"invalid --filter expression {expr!r}: {exc}") from None
 
     def fn(m: Message | AnyMsg) -> bool:
-        return bool(eval(code, {"__builtins__": __builtins__}, {"m": m, "topic": topic}))
+        try:
+            return bool(parsed.evaluate({"m": m, "topic": topic, "math": math}))
+        except DdesError as exc:
+            raise _filter_error(exc, f"--filter expression {expr!r} failed on a message of "
+                                     f"{topic}: {exc}") from None
 
     return fn
 

@@ -24,10 +24,14 @@ Deviations, on purpose (see docs/launch.md):
   within one scope and the scopes nested in it.
 * ``$(env)``, ``$(optenv)`` read the environment mapping the loader was
   given (``os.environ`` by default).
-* ``$(eval)`` offers only side-effect-free builtins (``len``, ``abs``,
-  ``min``, ``max``, ``round``, ``range``, ``str``, ``int`` ...).  roslaunch
-  leaves every builtin reachable, ``open`` included.  This is not a sandbox:
-  launch files are trusted input.
+* ``$(eval)`` is evaluated by :mod:`ddes.expr`, a safe subset of Python
+  walked without ``eval``: side-effect-free builtins (``len``, ``abs``,
+  ``min``, ``max``, ``round``, ``range``, ``str``, ``int`` ...), no names or
+  attributes starting with ``_``, no lambda or comprehensions, and cost
+  limits (``9**9**9`` is refused at once).  roslaunch ``eval``s the text with
+  every builtin reachable, ``open`` included.  A refusal is a
+  ``ROSLaunchException`` that is also an ``UnsafeExpressionError`` (or a
+  ``ResourceLimitError``).
 * ``$(find pkg)/path`` joins ``path`` to the package folder from the ddes
   :class:`~ddes.rospack.RosPack`; catkin's devel/install spaces do not exist.
 """
@@ -42,7 +46,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
 
-from ddes.errors import ROSLaunchException
+from ddes import expr as safe_expr
+from ddes.errors import DdesError, ResourceLimitError, ROSLaunchException, UnsafeExpressionError
 from ddes.graph.names import anonymous_name
 from ddes.launch.values import convert_value
 from ddes.rospack import PackageNotFound
@@ -263,13 +268,18 @@ _APPLY: dict[str, Callable[[str, str, list[str], SubstitutionContext], str]] = {
 
 # -- $(eval ...) ---------------------------------------------------------------------------
 
-_SAFE_BUILTINS: dict[str, object] = {
-    f.__name__: f
-    for f in (abs, all, any, bool, chr, dict, divmod, enumerate, filter, float, format, int,
-              isinstance, len, list, map, max, min, ord, pow, range, repr, reversed, round,
-              sorted, str, sum, tuple, zip)
-}
-_SAFE_BUILTINS.update({"None": None, "True": True, "False": False})
+#: The builtins of $(eval): ddes.expr's, less set/frozenset (their print order is not stable).
+_EVAL_BUILTINS = {k: v for k, v in safe_expr.SAFE_FUNCTIONS.items()
+                  if k not in ("set", "frozenset")}
+
+
+class UnsafeLaunchExpression(ROSLaunchException, UnsafeExpressionError):
+    """A ``$(eval ...)`` outside ddes's safe expression subset (both error kinds at once)."""
+
+
+class CostlyLaunchExpression(ROSLaunchException, ResourceLimitError):
+    """A ``$(eval ...)`` that would cost more than ddes allows."""
+
 
 _MATH: dict[str, object] = {k: v for k, v in vars(math).items() if not k.startswith("_")}
 
@@ -302,13 +312,20 @@ class _EvalNames(Mapping[str, object]):
 
 def _eval(expr: str, ctx: SubstitutionContext) -> str:
     if "__" in expr:
-        raise ROSLaunchException("$(eval ...) may not contain double underscore expressions")
+        raise UnsafeLaunchExpression(
+            f"$(eval {expr}): $(eval ...) may not contain double underscore expressions")
+    names = _EvalNames(ctx)
     try:
-        return str(eval(expr, {"__builtins__": _SAFE_BUILTINS}, _EvalNames(ctx)))  # noqa: S307
+        parsed = safe_expr.parse(expr, functions=[f for f in names._functions.values() if callable(f)],
+                                 builtins=_EVAL_BUILTINS)
+        return safe_expr.to_text(parsed.evaluate(names))
     except ROSLaunchException:
         raise
-    except Exception as exc:  # any error of the user's expression
-        raise ROSLaunchException(
-            f"$(eval {expr}) failed: {type(exc).__name__}: {exc}. Bare names are launch "
-            "args or math functions; use arg('name') to read an arg"
-        ) from None
+    except DdesError as exc:  # any error of the user's expression, or a refusal
+        message = (f"$(eval {expr}) failed: {exc}. Bare names are launch args or math "
+                   "functions; use arg('name') to read an arg")
+        if isinstance(exc, UnsafeExpressionError):
+            raise UnsafeLaunchExpression(message) from None
+        if isinstance(exc, ResourceLimitError):
+            raise CostlyLaunchExpression(message) from None
+        raise ROSLaunchException(message) from None

@@ -3,12 +3,15 @@
 ``filter_bag`` is ``rosbag filter``: a Python expression over ``topic``,
 ``m`` (the message) and ``t`` (its Time) chooses the messages to keep; the
 output keeps each topic's original connection header.  rosbag ``eval``s the
-expression with everything in scope; ddes compiles it once with a
-restricted namespace (a few harmless builtins, ``math``, ``Time``,
-``Duration``; no names or attributes starting with ``_``, no ``format``),
-so a typo or a forbidden name is a :class:`~ddes.errors.ROSBagException`
-before any message is read, and a failure on a message names the message.
-This keeps mistakes out; it is not a sandbox for hostile input.
+expression with everything in scope; ddes parses it once with
+:mod:`ddes.expr`, a safe subset of Python evaluated without ``eval``
+(names ``topic``, ``m``, ``t``, ``math``, ``Time``, ``Duration``; the
+methods ``to_sec``, ``to_nsec``, ``is_zero`` of times; see docs/bags.md).
+A typo is a :class:`~ddes.errors.ROSBagException` before any message is
+read; anything outside the subset is also an
+:class:`~ddes.errors.UnsafeExpressionError` (:class:`UnsafeBagExpression`),
+anything too costly a :class:`~ddes.errors.ResourceLimitError`
+(:class:`CostlyBagExpression`); a failure on a message names the message.
 
 ``change_compression`` and ``reindex_file`` are ``rosbag compress``,
 ``decompress`` and ``reindex`` on one file with rosbag's backup rule: the
@@ -18,79 +21,73 @@ existing backup is kept unless ``force``.
 
 from __future__ import annotations
 
-import ast
-import builtins
 import math
 import os
 import shutil
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ddes.errors import ROSBagException
+from ddes import expr as safe_expr
+from ddes.errors import DdesError, ResourceLimitError, ROSBagException, UnsafeExpressionError
 from ddes.rosbag.bag import Bag
 from ddes.time.rostime import Duration, Time
 
 if TYPE_CHECKING:
     from ddes.msg.message import Message
 
-__all__ = ["BagExpression", "backup_name", "change_compression", "compile_expression",
+__all__ = ["BagExpression", "CostlyBagExpression", "UnsafeBagExpression", "backup_name", "change_compression", "compile_expression",
            "filter_bag", "reindex_file"]
 
 #: A compiled ``rosbag filter`` expression: ``(topic, m, t) -> value`` (truth tested or printed).
 BagExpression = Callable[[str, "Message", Time], object]
 
-_SAFE_BUILTINS: dict[str, Callable[..., object]] = {
-    name: getattr(builtins, name)
-    for name in ("abs", "all", "any", "bool", "dict", "divmod", "enumerate", "float", "frozenset",
-                 "int", "isinstance", "len", "list", "max", "min", "range", "repr", "reversed",
-                 "round", "set", "sorted", "str", "sum", "tuple", "zip")
-}
-_FORBIDDEN_ATTRS = {"format", "format_map", "mro"}
+#: Methods an expression may call on a Time or Duration (``t.to_sec()``); class methods.
+_TIME_METHODS = frozenset({"to_sec", "to_nsec", "is_zero"})
+_METHODS: dict[type, frozenset[str]] = {Time: _TIME_METHODS, Duration: _TIME_METHODS}
+_CLASS_METHODS: dict[type, frozenset[str]] = {Time: frozenset({"from_sec"}),
+                                              Duration: frozenset({"from_sec"})}
 
 
-def _check_names(tree: ast.AST, expr: str, what: str) -> None:
-    for node in ast.walk(tree):
-        name = None
-        if isinstance(node, ast.Name):
-            name = node.id
-        elif isinstance(node, ast.Attribute):
-            name = node.attr
-            if name in _FORBIDDEN_ATTRS:
-                raise ROSBagException(f"{what} {expr!r}: the attribute '.{name}' is not allowed")
-        if name is not None and name.startswith("_"):
-            raise ROSBagException(f"{what} {expr!r}: names starting with '_' ({name}) are not "
-                                  "allowed")
-        if isinstance(node, (ast.NamedExpr, ast.Await, ast.Yield, ast.YieldFrom)):
-            raise ROSBagException(f"{what} {expr!r}: {type(node).__name__} is not allowed")
+class UnsafeBagExpression(ROSBagException, UnsafeExpressionError):
+    """A filter or print expression outside ddes's safe subset (both error kinds at once)."""
+
+
+class CostlyBagExpression(ROSBagException, ResourceLimitError):
+    """A filter or print expression that would cost more than ddes allows."""
+
+
+def _bag_error(exc: DdesError, message: str) -> ROSBagException:
+    if isinstance(exc, UnsafeExpressionError):
+        return UnsafeBagExpression(message)
+    if isinstance(exc, ResourceLimitError):
+        return CostlyBagExpression(message)
+    return ROSBagException(message)
 
 
 def compile_expression(expr: str, what: str = "filter expression") -> BagExpression:
-    """``lambda topic, m, t: <expr>`` compiled in a restricted namespace."""
+    """``(topic, m, t) -> <expr>``, parsed once into ddes's safe subset (no ``eval``)."""
     if not isinstance(expr, str) or not expr.strip():
         raise ROSBagException(f"{what} must be a non-empty Python expression, got {expr!r}")
     try:
-        tree = ast.parse(expr.strip(), mode="eval")
-    except SyntaxError as exc:
-        raise ROSBagException(f"{what} {expr!r} is not a valid Python expression: {exc.msg} "
-                              f"(column {exc.offset})") from None
-    _check_names(tree, expr, what)
-    args = ast.arguments(posonlyargs=[], args=[ast.arg("topic"), ast.arg("m"), ast.arg("t")],
-                         kwonlyargs=[], kw_defaults=[], defaults=[])
-    lam = ast.Expression(ast.Lambda(args, tree.body))
-    ast.fix_missing_locations(lam)
-    scope = {"__builtins__": _SAFE_BUILTINS, "math": math, "Time": Time, "Duration": Duration}
-    fn = eval(compile(lam, f"<{what}>", "eval"), scope)  # noqa: S307 - names checked above
-    return fn  # type: ignore[no-any-return]
+        parsed = safe_expr.parse(expr, functions=(Time, Duration), methods=_METHODS,
+                                 class_methods=_CLASS_METHODS)
+    except DdesError as exc:
+        raise _bag_error(exc, f"{what} {expr!r}: {exc}") from None
+
+    def fn(topic: str, m: Message, t: Time) -> object:
+        return parsed.evaluate({"topic": topic, "m": m, "t": t, "math": math, "Time": Time,
+                                "Duration": Duration})
+
+    return fn
 
 
 def _call(fn: BagExpression, expr: str, what: str, index: int, topic: str, msg: Message,
           t: Time) -> object:
     try:
         return fn(topic, msg, t)
-    except Exception as exc:  # noqa: BLE001 - the user's expression may raise anything
-        raise ROSBagException(
-            f"{what} {expr!r} failed on message {index} ({topic} at {t.to_sec():.9f}): "
-            f"{type(exc).__name__}: {exc}") from None
+    except DdesError as exc:
+        raise _bag_error(exc, f"{what} {expr!r} failed on message {index} ({topic} at "
+                              f"{t.to_sec():.9f}): {exc}") from None
 
 
 def filter_bag(inbag: Bag, outbag: Bag, expr: str, *, print_expr: str | None = None,
@@ -111,7 +108,12 @@ def filter_bag(inbag: Bag, outbag: Bag, expr: str, *, print_expr: str | None = N
         ok = _call(keep, expr, "filter expression", index, conn.topic, msg, t)
         if show is not None and out is not None:
             value = _call(show, print_expr or "", "print expression", index, conn.topic, msg, t)
-            out(f"{'MATCH' if ok else 'NO MATCH'} {value}")
+            try:
+                text = safe_expr.to_text(value)
+            except DdesError as exc:
+                raise _bag_error(exc, f"print expression {print_expr!r} on message {index}: "
+                                      f"{exc}") from None
+            out(f"{'MATCH' if ok else 'NO MATCH'} {text}")
         if ok:
             outbag.write(conn.topic, (conn.datatype, data, conn.md5sum, None, type(msg)), t,
                          raw=True, connection_header=conn.header)

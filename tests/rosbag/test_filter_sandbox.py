@@ -1,0 +1,84 @@
+"""rosbag filter expressions run in ddes.expr's safe subset: escapes and bombs are refused."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ddes import Time
+from ddes.errors import DdesError, ResourceLimitError, ROSBagException, UnsafeExpressionError
+from ddes.rosbag import Bag, filter_bag
+
+from .conftest import Int32, String
+
+
+def _bag() -> Bag:
+    bag = Bag()
+    for i in range(4):
+        bag.write("/a", String(data=f"message {i}"), Time(i, 5))
+        bag.write("/b", Int32(data=i), Time(i, 7))
+    return Bag.from_bytes(bag.to_bytes())
+
+
+@pytest.mark.parametrize("expr", [
+    "(x for x in ()).gi_frame.f_back.f_globals['os']",
+    "().__class__.__mro__[1].__subclasses__()",
+    "m.__class__", "t.__reduce__()", "__builtins__", "getattr(m, 'data')", "open('/x')",
+    "'{0.__class__}'.format(m)", "[x for x in [m]]", "m.serialize(None)", "lambda: 1",
+    "Time.__init__", "math.__spec__",
+])
+def test_escapes_are_unsafe_bag_expressions(expr: str) -> None:
+    with pytest.raises(UnsafeExpressionError) as info:
+        filter_bag(_bag(), Bag(), expr)
+    assert isinstance(info.value, ROSBagException)
+    assert repr(expr) in str(info.value)
+
+
+@pytest.mark.parametrize("expr", ["9**9**9", "'a' * 10**10", "len(list(range(10**12))) > 0",
+                                  "m.data * 10**9 == ''"])
+def test_bombs_are_refused_quickly(expr: str) -> None:
+    start = time.process_time()
+    with pytest.raises(ResourceLimitError) as info:
+        filter_bag(_bag(), Bag(), expr)
+    assert isinstance(info.value, ROSBagException)
+    assert time.process_time() - start < 1.0
+
+
+@pytest.mark.parametrize(("expr", "kept"), [
+    ("topic == '/a' and m.data.endswith('1')", 1),
+    ("t.to_sec() < 2", 4),
+    ("t > Time.from_sec(2.5)", 2),
+    ("t.secs == 1 and t.nsecs == 7", 1),
+    ("topic == '/b' and m.data % 2 == 0", 2),
+    ("math.sqrt(t.secs) >= 1", 6),
+    ("t - Time(1) > Duration(1)", 4),
+])
+def test_documented_filters_still_work(expr: str, kept: int) -> None:
+    out = Bag()
+    assert filter_bag(_bag(), out, expr) == kept
+
+
+def test_print_expression_uses_the_subset() -> None:
+    lines: list[str] = []
+    filter_bag(_bag(), Bag(), "topic == '/b'", print_expr="f'{t.secs}:{m.data}'",
+               out=lines.append)
+    assert lines[:2] == ["NO MATCH 0:message 0", "MATCH 0:0"]
+    with pytest.raises(UnsafeExpressionError):
+        filter_bag(_bag(), Bag(), "True", print_expr="m.__class__", out=lines.append)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.sampled_from(["m", ".data", "t", ".secs", " + ", " * ", "10**9", "'a'",
+                                 " == ", "(", ")", "topic", "[0]", ".__class__", "len(",
+                                 "x", " ** ", "9", ".to_sec()", " and ", "math.", "pi"]),
+                max_size=12).map("".join))
+def test_fuzz_filter(expr: str) -> None:
+    start = time.process_time()
+    try:
+        filter_bag(_bag(), Bag(), expr)
+    except DdesError:
+        pass
+    assert time.process_time() - start < 2.0
