@@ -633,7 +633,7 @@ class _Evaluator:
             if n > MAX_ITEMS:
                 raise _too_big(f"range{tuple(args)} of {n} items", f"the limit of {MAX_ITEMS}")
         elif fn is pow:
-            _check_pow(*args[:3], **kwargs)  # type: ignore[misc]
+            _check_pow(*args[:3], **kwargs)  # type: ignore[misc,unused-ignore]
         elif fn is round and len(args) > 1 and _is_int(args[1]) and abs(args[1]) > _MAX_WIDTH:
             raise _too_big(f"round(..., {args[1]})", f"ndigits of {_MAX_WIDTH}")
         elif fn is sum:

@@ -116,4 +116,4 @@ def load_rosparam_yaml(text: str) -> ParamValue:
     :class:`yaml.YAMLError`.
     """
     data = load_yaml(text, angles=True)
-    return {} if data is None else data  # type: ignore[no-any-return]
+    return {} if data is None else data  # type: ignore[no-any-return,unused-ignore]
