@@ -40,6 +40,7 @@ import ast
 import math
 import re
 import types
+import warnings
 from collections.abc import Callable, Collection, Iterable, Mapping
 from typing import Any
 
@@ -224,7 +225,9 @@ def parse(source: str, *, functions: Iterable[Callable[..., Any]] = (),
         raise _too_big(f"an expression of {len(source)} characters",
                        f"the limit of {MAX_SOURCE_CHARS} characters")
     try:
-        tree = ast.parse(source.strip(), mode="eval")
+        with warnings.catch_warnings():  # the user's text, not ddes's: no SyntaxWarning on stderr
+            warnings.simplefilter("ignore", SyntaxWarning)
+            tree = ast.parse(source.strip(), mode="eval")
     except SyntaxError as exc:
         raise DdesValueError(f"SyntaxError: {exc.msg} (column {exc.offset}): {source!r} is "
                              "not a valid Python expression") from None

@@ -1,16 +1,97 @@
-"""``ddes console``: the entry point of the console (the engine is :mod:`ddes.console`)."""
+"""``ddes console``: the entry point of the console (the engine is :mod:`ddes.console`).
+
+Endings: when the script or the input ends (Ctrl+D), and on SIGINT and
+SIGTERM, every open recording is closed (its index written, ``NAME.bag``
+in place) before the command exits.  In a script (``--script FILE`` or
+lines on standard input) SIGINT exits 130 and SIGTERM 143 (128 + the
+signal, as a shell reports them); interactively Ctrl+C stops only the
+foreground command (see :mod:`ddes.console.shell`) and SIGTERM exits 143.
+A script that is not UTF-8 is refused naming the file and the byte offset
+(exit 1); output into a closed pipe (``| head``) ends quietly with 141
+(128 + SIGPIPE, what a shell shows for ``yes | head``).
+"""
 
 from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+from collections.abc import Iterator
 from pathlib import Path
+from types import FrameType
+from typing import IO
 
 from ddes.console.shell import interact, run_script
 from ddes.errors import ROSConsoleError
 
-__all__ = ["main", "register"]
+__all__ = ["EXIT_BROKEN_PIPE", "Signalled", "decode_lines", "main", "register",
+           "silence_stdout"]
+
+#: Exit code when standard output is a closed pipe (128 + SIGPIPE).
+EXIT_BROKEN_PIPE = 141
+
+
+class Signalled(BaseException):
+    """SIGINT/SIGTERM in the console command: unwinds (stopping the foreground command) to
+    :func:`main`, which closes the recordings and exits ``128 + signum``.  A BaseException so no
+    ``except Exception`` of a node or tool swallows it."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+class _Handler:
+    """Raises :class:`Signalled` until the recordings are being closed, then ignores signals."""
+
+    def __init__(self) -> None:
+        self.closing = False
+
+    def __call__(self, signum: int, frame: FrameType | None) -> None:
+        if not self.closing:
+            raise Signalled(signum)
+
+
+def silence_stdout() -> None:
+    """Point standard output at /dev/null (after EPIPE), so nothing more fails or is printed."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+
+
+def decode_lines(stream: IO[bytes], name: str) -> Iterator[str]:
+    """The lines of ``stream`` as UTF-8 text; invalid UTF-8 is a ROSConsoleError naming ``name``,
+    the line and the byte offset."""
+    offset = 0
+    for number, raw in enumerate(iter(stream.readline, b""), 1):
+        try:
+            yield raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise ROSConsoleError(_not_utf8(name, raw, exc, offset, number)) from None
+        offset += len(raw)
+
+
+def _not_utf8(name: str, data: bytes, exc: UnicodeDecodeError, base: int, line: int) -> str:
+    return (f"{name} is not UTF-8 text: byte {data[exc.start]:#04x} at byte offset "
+            f"{base + exc.start} (line {line}) cannot be decoded ({exc.reason}); save the file "
+            "as UTF-8")
+
+
+def _read_script(path: str) -> list[str]:
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise ROSConsoleError(f"cannot read script {path}: {exc.strerror}") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise ROSConsoleError(_not_utf8(f"script {path}", data, exc, 0, line)) from None
+    return text.splitlines()
 
 
 def _history_file() -> str | None:
@@ -26,6 +107,8 @@ def main(args: argparse.Namespace) -> int:
     from ddes.rospack import env_package_path
     from ddes.world import Console, World
 
+    lines = _read_script(args.script) if args.script is not None else None
+    interactive = lines is None and sys.stdin.isatty()
     # The one place the environment is read: when the command starts.
     world = World(seed=args.seed, package_path=env_package_path(os.environ))
     console = Console(world, core=not args.no_core)
@@ -34,16 +117,40 @@ def main(args: argparse.Namespace) -> int:
         sys.stdout.write(text + "\n")
         sys.stdout.flush()
 
-    if args.script is not None:
-        path = Path(args.script)
+    handled = [signal.SIGTERM] if interactive else [signal.SIGINT, signal.SIGTERM]
+    handler = _Handler()
+    previous = {sig: signal.signal(sig, handler) for sig in handled}
+    reason = "end of input"
+    try:
+        if lines is not None:
+            code = run_script(console, lines, write, keep_going=args.keep_going)
+        elif not interactive:
+            binary = getattr(sys.stdin, "buffer", None)  # None: a text stream put in its place
+            source = sys.stdin if binary is None else decode_lines(binary, "standard input")
+            code = run_script(console, source, write, keep_going=args.keep_going)
+        else:
+            code = interact(console, _history_file())
+    except Signalled as exc:
+        name = signal.Signals(exc.signum).name
+        reason = name
+        code = 128 + exc.signum
+        sys.stderr.write(f"ddes console: {name}: closing the open recordings and exiting\n")
+    except BrokenPipeError:
+        silence_stdout()
+        reason = "broken pipe"
+        code = EXIT_BROKEN_PIPE
+    finally:
+        handler.closing = True  # closing is not interrupted by a second signal
         try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise ROSConsoleError(f"cannot read script {args.script}: {exc.strerror}") from None
-        return run_script(console, text.splitlines(), write, keep_going=args.keep_going)
-    if not sys.stdin.isatty():
-        return run_script(console, sys.stdin, write, keep_going=args.keep_going)
-    return interact(console, _history_file())
+            try:
+                console.close(reason)
+            except BrokenPipeError:
+                silence_stdout()
+                console.close(reason)
+        finally:
+            for sig, old in previous.items():
+                signal.signal(sig, old)
+    return code
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

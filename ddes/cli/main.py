@@ -4,13 +4,18 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
 
 import ddes
 from ddes.errors import DdesError
 
-__all__ = ["COMMAND_MODULES", "build_parser", "main"]
+__all__ = ["COMMAND_MODULES", "EXIT_BROKEN_PIPE", "build_parser", "main"]
+
+#: Exit code when standard output is a pipe whose reader has gone (``| head``): 128 + SIGPIPE,
+#: what a shell shows for a command ended by SIGPIPE; no traceback is printed.
+EXIT_BROKEN_PIPE = 141
 
 #: Modules adding a ROS tool subcommand.  Each provides ``register(subparsers)``,
 #: which adds its parser and sets ``func`` (args -> exit code) with
@@ -40,7 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``ddes`` command; returns the exit code."""
+    """Run the ``ddes`` command; returns the exit code (141 when standard output is a closed
+    pipe: ``ddes rosbag info x.bag | head -1`` ends quietly)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
@@ -53,9 +59,22 @@ def main(argv: Sequence[str] | None = None) -> int:
             return int(args.func(args))
         parser.print_help()
         return 0
+    except BrokenPipeError:  # `ddes ... | head`: the reader left; end quietly, as a shell shows
+        _silence_stdout()
+        return EXIT_BROKEN_PIPE
     except DdesError as exc:
         print(f"ERROR: {exc}", file=sys.stderr)
         return 1
+
+
+def _silence_stdout() -> None:
+    """Point standard output at /dev/null so the interpreter's last flush cannot fail."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
 
 
 if __name__ == "__main__":

@@ -125,7 +125,7 @@ def _summary(world: World, out: Callable[[str], None]) -> None:
 def _guard(fn: Callable[[], None]) -> int:
     try:
         fn()
-    except DdesError:
+    except (DdesError, BrokenPipeError):  # main() reports these (a closed pipe: quietly, 141)
         raise
     except Exception as exc:  # noqa: BLE001 - a node's own code failed while the world ran
         print(f"ERROR: {type(exc).__name__} raised while the world ran: {exc}", file=sys.stderr)

@@ -1,4 +1,4 @@
-"""``rosbag``: record, play, info, filter, compress, decompress, reindex.
+"""``rosbag``: record, play, info, check, filter, compress, decompress, reindex.
 
 Two ways in, one implementation:
 
@@ -11,8 +11,15 @@ Two ways in, one implementation:
   lists them, ``kill %N`` stops them; a stopped recording is written).
   ``record`` without ``--duration``/``--limit``, and ``play --loop``,
   ``--keep-alive``, ``--pause`` or ``--wait-for-subscribers``, need the ``&``;
-* as a one-shot command on files (``ddes rosbag info|filter|compress|
+* as a one-shot command on files (``ddes rosbag info|check|filter|compress|
   decompress|reindex FILE...``), which needs no world.
+
+A recording writes ``NAME.bag.active`` as it goes (chunks of ``--chunksize``
+KB, and whatever is pending after every console command); the console closes
+every open recording when a script ends, on Ctrl+D, SIGINT and SIGTERM.  The
+``.active`` file a killed process (SIGKILL) leaves is recovered with
+``rosbag reindex NAME.bag.active``; ``rosbag check`` says whether a bag is
+readable, indexed and needs no migration.
 
 Options, messages and exit codes follow ``rosbag_main.py``.  Deviations:
 no progress meter (it reads the wall clock); ``compress``, ``decompress``
@@ -49,6 +56,8 @@ if TYPE_CHECKING:
 __all__ = ["TOOLS", "register", "rosbag_main", "run"]
 
 _COMMANDS = {
+    "check": "Determine whether a bag is playable in the current system, or if it can be "
+             "migrated.",
     "compress": "Compress one or more bag files.",
     "decompress": "Decompress one or more bag files.",
     "filter": "Filter the contents of the bag.",
@@ -137,6 +146,37 @@ def _info(io: _IO, argv: list[str]) -> int:
         if i < len(a.bags) - 1:
             io.out("---")
     return 0
+
+
+# -- check ------------------------------------------------------------------------------------
+
+def _check(io: _IO, argv: list[str]) -> int:
+    from ddes.rosbag.repair import check_bag
+
+    p = _parser(io, "check", "rosbag check BAG [-g RULEFILE] [EXTRARULES1 EXTRARULES2 ...]")
+    p.add_argument("bags", nargs="*")
+    p.add_argument("-g", "--genrules", dest="rulefile", help="(not modelled by ddes)")
+    p.add_argument("-a", "--append", action="store_true", help="(not modelled by ddes)")
+    p.add_argument("-n", "--noplugins", action="store_true", help="(no effect in ddes)")
+    a = p.parse_args(argv)
+    if not a.bags:
+        p.error("You must specify a bag file to check.")
+    if a.append and a.rulefile is None:
+        p.error("Cannot specify -a without also specifying -g.")
+    if a.rulefile is not None:
+        return _refuse(io, ["--genrules (migration rules)"])
+    path = a.bags[0]
+    try:
+        result = check_bag(path, io.ctx.world.messages if io.ctx is not None else None)
+    except ROSBagUnindexedException:
+        io.err(f"ERROR bag unindexed: {path}.  Run rosbag reindex.")
+        return 1
+    except ROSBagException as exc:
+        io.err(f"ERROR reading {path}: {_reason(exc, path)}")
+        return 1
+    for line in result.lines():
+        io.out(line)
+    return 1 if result.migrations else 0
 
 
 # -- filter -----------------------------------------------------------------------------------
@@ -437,6 +477,8 @@ def run(argv: Sequence[str], out: Callable[[str], None], err: Callable[[str], No
     try:
         if cmd == "info":
             return _info(io, args)
+        if cmd == "check":
+            return _check(io, args)
         if cmd == "filter":
             return _filter(io, args)
         if cmd in ("compress", "decompress", "reindex"):
@@ -469,6 +511,7 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
     """Add ``ddes rosbag`` (info, filter, compress, decompress, reindex on files)."""
     tool = subparsers.add_parser(
         "rosbag", add_help=False, prefix_chars="+",
-        help="bag files: info, filter, compress, decompress, reindex (record/play in a world)")
+        help="bag files: info, check, filter, compress, decompress, reindex (record/play in a "
+             "world)")
     tool.add_argument("argv", nargs=argparse.REMAINDER)
     tool.set_defaults(func=rosbag_main)

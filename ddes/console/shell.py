@@ -27,6 +27,16 @@ Three ways in:
   graders); :meth:`Console.execute` returns code, stdout and stderr apart.
 
 Errors print one line, ``ERROR: ...``, and the console keeps running.
+
+Hostile input: a command line longer than :data:`MAX_LINE` characters (64
+KiB) is refused with ``ERROR: ...`` naming the limit, without echoing it
+whole, and the console goes on.  Ctrl+C during a command stops that
+foreground command only (its nodes shut down, a foreground recording is
+written) and says so; background jobs go on.  After every command the open
+recordings write their pending chunk to ``NAME.bag.active``, so a killed
+console loses nothing it recorded; :meth:`Console.close` closes them (the
+``ddes console`` command calls it when a script ends, on Ctrl+D, SIGINT and
+SIGTERM).
 """
 
 from __future__ import annotations
@@ -47,7 +57,10 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
-__all__ = ["BUILTINS", "Console", "interact", "run_script"]
+__all__ = ["BUILTINS", "MAX_LINE", "Console", "interact", "run_script"]
+
+#: The longest command line the console runs (characters); longer ones are refused.
+MAX_LINE = 64 * 1024
 
 #: Commands of the console itself (the tools come from TOOL_MODULES).
 BUILTINS = ("exit", "help", "quit")
@@ -121,14 +134,37 @@ class Console:
     def command(self, line: str, out: Callable[[str], None],
                 err: Callable[[str], None]) -> int:
         """Run one command line with its output streamed to ``out``/``err``; returns the exit code."""
+        from ddes.rosbag.recorder import flush_recordings
+
         ctx = self.ctx
         saved = ctx.out, ctx.err
         ctx.out, ctx.err = out, err
         try:
-            return self._command(line)
+            if len(line) > MAX_LINE:
+                ctx.eprint(f"ERROR: {too_long(line)}")
+                return 1
+            try:
+                return self._command(line)
+            except KeyboardInterrupt:  # Ctrl+C: the foreground command only
+                ctx.eprint(f"^C: stopped the foreground command '{_shown(line)}' (its nodes "
+                           "were shut down; background jobs keep running: 'jobs' lists them)")
+                return 130
         finally:
-            self._report_callback_errors()
-            ctx.out, ctx.err = saved
+            try:
+                self._report_callback_errors()
+                flush_recordings(self.world)
+            finally:
+                ctx.out, ctx.err = saved
+
+    def close(self, reason: str = "closed") -> list[str]:
+        """Close every open recording (index written, ``NAME.bag`` in place); their paths.
+
+        ``ddes console`` calls this when the script or input ends and on SIGINT/SIGTERM.
+        """
+        from ddes.rosbag.recorder import close_recordings
+
+        closed = close_recordings(self.world, reason)
+        return [r.path for r in closed if r.path is not None]
 
     def _command(self, line: str) -> int:
         ctx = self.ctx
@@ -280,6 +316,21 @@ def _paths(prefix: str) -> list[str]:
     return [base + n + ("/" if os.path.isdir(os.path.join(folder, n)) else "") for n in names]
 
 
+def too_long(line: str) -> str:
+    """The message refusing a command line over :data:`MAX_LINE` characters."""
+    return (f"the command line has {len(line)} characters, over the console's limit of "
+            f"{MAX_LINE} (MAX_LINE, 64 KiB): split it, or put long data in a file (rosparam "
+            "load FILE)")
+
+
+def _shown(line: str, width: int = 80) -> str:
+    """``line`` cut to ``width`` characters for an echo or a message."""
+    first = line.split("\n", 1)[0]
+    if len(first) <= width and first == line:
+        return line
+    return f"{first[:width]}... ({len(line)} characters)"
+
+
 def _balanced(line: str) -> bool:
     try:
         shlex.split(line)
@@ -309,6 +360,14 @@ def run_script(console: Console, lines: Iterable[str], write: Callable[[str], No
     pending: list[str] = []
     for raw in lines:
         line = raw.rstrip("\n").rstrip("\r")
+        if len(line) > MAX_LINE or sum(map(len, pending)) + len(line) > MAX_LINE:
+            write(prompt + _shown(line.strip() or (pending or [""])[0]))
+            write(f"ERROR: {too_long(chr(10).join([*pending, line]))}")
+            pending = []
+            if not keep_going:
+                return 1
+            failed = 1
+            continue
         if pending:  # inside an open quote: the line break belongs to the argument, as in bash
             pending.append(line)
             if not _balanced("\n".join(pending)):
@@ -395,7 +454,7 @@ class _Shell(cmd.Cmd):
 
     def precmd(self, line: str) -> str:
         """An open quote continues on the next line (prompt ``> ``), as in a shell."""
-        while _open_quote(line):
+        while len(line) <= MAX_LINE and _open_quote(line):  # a longer line is refused whole
             try:
                 more = input("> ") if self.use_rawinput else self.stdin.readline()
             except EOFError:

@@ -33,6 +33,7 @@ import datetime
 import heapq
 import io
 import os
+import stat
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from operator import itemgetter
@@ -99,6 +100,8 @@ __all__ = [
     "RawMessage",
     "TopicTuple",
     "TypesAndTopicsTuple",
+    "open_active",
+    "write_target",
 ]
 
 _time_key = itemgetter(0)
@@ -205,6 +208,41 @@ def _bound(t: Time | HasNsec | None, what: str) -> int | None:
     if not isinstance(t, HasNsec):
         raise DdesTypeError(f"{what} must be a Time or None, got {t!r}")
     return None if not t else to_ns(t, what)
+
+
+_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISSOCK, "a socket"))
+
+
+def write_target(path: str) -> str:
+    """The file a bag written to ``path`` lands in: a symlink is followed (its target gets the
+    bag, the link stays); a directory, FIFO, device or socket is refused with ROSBagException."""
+    target = os.path.realpath(path) if os.path.islink(path) else path
+    try:
+        mode = os.stat(target).st_mode
+    except FileNotFoundError:
+        return target
+    except OSError as exc:
+        raise ROSBagException(f"{path}: cannot write the bag there ({exc.strerror})") from None
+    for test, what in _KINDS:
+        if test(mode):
+            shown_path = path if target == path else f"{path} (a link to {target})"
+            raise ROSBagException(f"{shown_path} is {what}, not a regular file: a bag is written "
+                                  "only to a regular file; give a file name such as run.bag")
+    return target
+
+
+def open_active(path: str) -> IO[bytes]:
+    """Open the temporary file ``path`` (a ``.active`` name) for writing, fresh.
+
+    A symlink or other non-regular file of that name is ddes's temporary name taken by
+    something else: a link is removed (the bag never writes through it), anything else refused.
+    """
+    if os.path.islink(path):
+        os.unlink(path)
+    write_target(path)
+    return open(path, "wb")
 
 
 def _is_mcap_name(f: str | os.PathLike[str]) -> bool:
@@ -340,9 +378,10 @@ class Bag:
 
     def _start_active(self) -> None:
         assert self._path is not None
-        active = self._path + ".active"
+        target = write_target(self._path)  # refuse a directory, FIFO or device at once
+        active = target + ".active"
         try:
-            with open(active, "wb") as out:
+            with open_active(active) as out:
                 if self._format == "bag":
                     out.write(active_placeholder())  # what an open rosbag file starts with
         except OSError as exc:
@@ -369,19 +408,29 @@ class Bag:
 
     def save(self, f: str | os.PathLike[str] | IO[bytes], *, format: str | None = None,
              compression: str | None = None) -> None:
-        """Write the bag to a path (via ``NAME.active``, then renamed) or a file object."""
+        """Write the bag to a path or a file object.
+
+        A path is written atomically: into ``NAME.active`` in the same folder, flushed to
+        disk, then renamed over ``NAME`` (``os.replace``), so ``NAME`` is always the old or
+        the new bag, never half of one.  A symlink is followed (the target gets the bag and
+        the link stays); a directory, FIFO, device or socket is refused with ROSBagException.
+        """
         if not isinstance(f, (str, os.PathLike)):  # a file object
             self._write_to(f, format or "bag", compression)
             return
         path = str(os.fspath(f))
         fmt = format or ("mcap" if _is_mcap_name(path) else "bag")
-        active = path + ".active"
+        target = write_target(path)
+        active = target + ".active"
         try:
-            with open(active, "wb") as out:
+            with open_active(active) as out:
                 self._write_to(out, fmt, compression)
-            os.replace(active, path)
+                out.flush()
+                os.fsync(out.fileno())
+            os.replace(active, target)
         except OSError as exc:
-            raise ROSBagException(f"{path}: cannot write the bag ({exc.strerror})") from None
+            raise ROSBagException(f"{path}: cannot write the bag ({exc.strerror}); the file "
+                                  f"{path} is unchanged") from None
 
     def _write_to(self, out: IO[bytes], fmt: str, compression: str | None) -> None:
         if fmt == "mcap":

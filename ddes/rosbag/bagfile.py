@@ -63,8 +63,8 @@ from ddes.rosbag.records import (
 )
 
 __all__ = ["COMPRESSIONS", "INFLATE_FLOOR", "INFLATE_RATIO", "MAX_CHUNK_SIZE", "ChunkStat",
-           "Decoded", "Entry", "FileStats", "InflateBudget", "active_placeholder", "decode",
-           "encode", "inflate", "read_file"]
+           "Decoded", "Entry", "FileStats", "InflateBudget", "StreamWriter", "active_placeholder",
+           "decode", "encode", "inflate", "read_file"]
 
 #: ``(time_ns, connection id, serialized message)``.
 Entry = tuple[int, int, bytes]
@@ -646,3 +646,106 @@ def read_file(path: str | os.PathLike[str]) -> bytes:
         raise ROSBagException(f"{path}: is a directory, not a bag file") from None
     except OSError as exc:
         raise ROSBagException(f"{path}: cannot read the bag file ({exc.strerror})") from None
+
+
+# -- writing as you go (rosbag record) ---------------------------------------------------------
+
+def _chunk_blob(ch: _ChunkWriter, compression: str) -> tuple[bytes, int, int]:
+    """A closed chunk record and its index records, as :func:`encode` writes them."""
+    raw = bytes(ch.buf)
+    packed = _compress(compression, raw)
+    head = encode_header({"op": _B.pack(OP_CHUNK), "compression": compression.encode(),
+                          "size": _U32.pack(len(raw))})
+    parts = [_U32.pack(len(head)), head, _U32.pack(len(packed)), packed]
+    for cid, entries in ch.index.items():
+        body = b"".join(pack_time(t) + _U32.pack(off) for t, off in entries)
+        parts.append(encode_record({"op": _B.pack(OP_INDEX_DATA), "conn": _U32.pack(cid),
+                                    "ver": _U32.pack(1), "count": _U32.pack(len(entries))},
+                                   body))
+    return b"".join(parts), len(packed), len(raw)
+
+
+class StreamWriter:
+    """A v2.0 bag written as it grows, the way ``rosbag record`` writes ``NAME.bag.active``.
+
+    The file starts with the magic and a file header whose index position is
+    0 (unindexed).  :meth:`add` appends a message to the open chunk; a chunk
+    holding more than ``chunk_threshold`` uncompressed bytes is written out
+    at once, and :meth:`flush` writes the open chunk whatever its size (and
+    flushes the file to the operating system).  What was written survives a
+    killed process: ``rosbag reindex`` (ddes's or ROS's) rebuilds the index
+    from the chunks.  :meth:`close` writes the index and the final file
+    header.  Without :meth:`flush` calls the bytes equal :func:`encode`'s
+    for the same messages.
+    """
+
+    def __init__(self, out: IO[bytes], *, compression: str = "none",
+                 chunk_threshold: int = 768 * 1024) -> None:
+        if compression not in COMPRESSIONS:
+            raise ROSBagException(f"unsupported compression type: {compression}; use one of "
+                                  f"{', '.join(COMPRESSIONS)}")
+        self.out = out
+        self.compression = compression
+        self.chunk_threshold = chunk_threshold
+        self.base = out.tell()
+        out.write(MAGIC)
+        out.write(_file_header(0, 0, 0))
+        self.pos = out.tell() - self.base
+        self.chunks: list[ChunkStat] = []
+        self.connections: dict[int, ConnectionInfo] = {}
+        self._chunk: _ChunkWriter | None = None
+        self.closed = False
+        out.flush()
+
+    def add(self, t: int, conn: ConnectionInfo, data: bytes) -> None:
+        """Append one message (``t`` in ns) of connection ``conn``."""
+        chunk = self._chunk
+        if chunk is None:
+            chunk = self._chunk = _ChunkWriter(t)
+        if conn.id not in self.connections:
+            self.connections[conn.id] = conn
+            chunk.buf += _connection_record(conn)
+        chunk.add(t, conn.id, data)
+        if len(chunk.buf) > self.chunk_threshold:
+            self._write_chunk()
+            self.out.flush()
+
+    def _write_chunk(self) -> None:
+        ch = self._chunk
+        if ch is None:
+            return
+        self._chunk = None
+        blob, packed, raw = _chunk_blob(ch, self.compression)
+        self.out.write(blob)
+        self.chunks.append(ChunkStat(self.pos, self.compression, packed, raw, ch.start, ch.end,
+                                     {cid: len(e) for cid, e in ch.index.items()}))
+        self.pos += len(blob)
+
+    def flush(self) -> None:
+        """Write the open chunk (if any) and hand the bytes to the operating system."""
+        if self.closed:
+            return
+        self._write_chunk()
+        self.out.flush()
+
+    def close(self) -> FileStats:
+        """Write the open chunk, the index and the final file header."""
+        self._write_chunk()
+        self.closed = True
+        out = self.out
+        index_pos = self.pos
+        tail = [_connection_record(conn) for conn in self.connections.values()]
+        for ch in self.chunks:
+            fields = {"op": _B.pack(OP_CHUNK_INFO), "ver": _U32.pack(1),
+                      "chunk_pos": _U64.pack(ch.pos), "start_time": pack_time(ch.start),
+                      "end_time": pack_time(ch.end), "count": _U32.pack(len(ch.counts))}
+            tail.append(encode_record(fields, b"".join(_PAIR.pack(c, n)
+                                                       for c, n in ch.counts.items())))
+        blob = b"".join(tail)
+        out.write(blob)
+        end = out.tell()
+        out.seek(self.base + _DATA_START)
+        out.write(_file_header(index_pos, len(self.connections), len(self.chunks)))
+        out.seek(end)
+        out.flush()
+        return FileStats(index_pos + len(blob), self.chunks)

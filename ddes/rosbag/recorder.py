@@ -22,15 +22,21 @@ It follows roscpp's recorder (ros_comm ``tools/rosbag/src/recorder.cpp``,
   publisher is recorded with ``latching: 1`` and two publishers on a topic
   show as two connections.
 
-Messages go straight into an in-memory :class:`~ddes.rosbag.Bag`
-(:attr:`Recorder.bag`); unless ``in_memory``, the file is
-``NAME.bag.active`` while recording and is written and renamed to
-``NAME.bag`` when the recording stops.  File names follow ``-O``/``-o``:
+Messages go into an in-memory :class:`~ddes.rosbag.Bag`
+(:attr:`Recorder.bag`) and, unless ``in_memory``, into the file
+``NAME.bag.active`` as they arrive, the way rosbag writes it: a v2.0 bag
+whose chunks are written out when they pass ``chunksize`` KB and on every
+:meth:`Recorder.flush` (the console flushes after each command), so a
+killed process leaves a file ``rosbag reindex`` recovers.  When the
+recording stops the index is written and the file renamed to ``NAME.bag``
+(a symlink ``NAME.bag`` is followed: its target gets the bag).
+:func:`close_recordings` stops every open recording of a world (the
+console calls it at the end of a script, on Ctrl+D, SIGINT and SIGTERM).  File names follow ``-O``/``-o``:
 ``output_name`` gives exactly ``NAME.bag``; ``output_prefix`` gives
 ``PREFIX_YYYY-MM-DD-HH-MM-SS.bag``; neither gives the date alone.  ddes has
 no wall clock, so the date is the world's kernel time (seconds since the
-epoch, in the local time zone or ``tz``) when the recording starts: a world
-at 0 s records ``1970-01-01-00-00-00.bag`` in UTC.
+epoch, in UTC unless ``tz`` is given, so names never depend on ``TZ``) when
+the recording starts: a world at 0 s records ``1970-01-01-00-00-00.bag``.
 
 Not modelled: ``--split``/``--size``/``--max-splits``, ``--buffsize`` (nothing
 is queued, so nothing is dropped), ``--min-space``, ``--repeat-latched``,
@@ -40,14 +46,14 @@ snapshots.
 from __future__ import annotations
 
 import datetime
+import os
 import re
-import time
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from typing import IO, TYPE_CHECKING
 
 from ddes.errors import DdesTypeError, DdesValueError, ROSBagException
-from ddes.rosbag.bag import Bag
-from ddes.rosbag.bagfile import active_placeholder
+from ddes.rosbag.bag import Bag, open_active, write_target
+from ddes.rosbag.bagfile import StreamWriter
 from ddes.time.rostime import Time
 from ddes.time.units import DurationLike, HasNsec, ns_to_sec, to_ns
 
@@ -58,7 +64,37 @@ if TYPE_CHECKING:
     from ddes.graph.topics import AnyMsg, Subscriber
     from ddes.graph.world import World
 
-__all__ = ["Recorder", "bag_filename", "parse_duration", "roscpp_duration_ns"]
+__all__ = ["Recorder", "bag_filename", "close_recordings", "flush_recordings", "open_recordings",
+           "parse_duration", "roscpp_duration_ns"]
+
+_REGISTRY = "rosbag.recorders"
+
+
+def _registry(world: World) -> list[Recorder]:
+    return world.extension(_REGISTRY, lambda _w: [])
+
+
+def open_recordings(world: World) -> list[Recorder]:
+    """The recorders of ``world`` still recording, oldest first."""
+    return [r for r in _registry(world) if r.is_recording]
+
+
+def flush_recordings(world: World) -> None:
+    """Write the open chunk of every open recording of ``world`` to its ``.active`` file."""
+    if _REGISTRY not in world.extensions:
+        return
+    for rec in open_recordings(world):
+        rec.flush()
+
+
+def close_recordings(world: World, reason: str = "closed") -> list[Recorder]:
+    """Stop every open recording of ``world`` (index written, file renamed); returns them."""
+    if _REGISTRY not in world.extensions:
+        return []
+    stopped = open_recordings(world)
+    for rec in stopped:
+        rec.stop(reason)
+    return stopped
 
 
 def roscpp_duration_ns(seconds: float) -> int:
@@ -100,7 +136,7 @@ def bag_filename(output_prefix: str | None = None, output_name: str | None = Non
 
     A trailing ``.bag`` is stripped from the name or prefix first.  The date
     (``%Y-%m-%d-%H-%M-%S``) is ``stamp_ns`` read as seconds since the epoch
-    in ``tz`` (default: the local zone).
+    in ``tz`` (default: UTC, so the name never depends on the ``TZ`` of the machine).
     """
     if output_prefix is not None and output_name is not None:
         raise DdesValueError("Can't set both prefix and name.")
@@ -111,10 +147,8 @@ def bag_filename(output_prefix: str | None = None, output_name: str | None = Non
     parts = [prefix] if prefix else []
     if append_date:
         secs = Time.from_nsec(stamp_ns).secs
-        if tz is None:
-            parts.append(time.strftime("%Y-%m-%d-%H-%M-%S", time.localtime(secs)))
-        else:
-            parts.append(datetime.datetime.fromtimestamp(secs, tz).strftime("%Y-%m-%d-%H-%M-%S"))
+        zone = datetime.timezone.utc if tz is None else tz
+        parts.append(datetime.datetime.fromtimestamp(secs, zone).strftime("%Y-%m-%d-%H-%M-%S"))
     if not parts:
         raise ROSBagException("Bag filename is empty (neither of these was specified: prefix, "
                               "append_date, split)")
@@ -186,13 +220,22 @@ class Recorder:
             self._begin_pub = self.node.advertise("begin_write",
                                                   get_message_class("std_msgs/String"),
                                                   queue_size=1, latch=True)
+        self._file: IO[bytes] | None = None
+        self._writer: StreamWriter | None = None
         if self.path is not None:
+            active = self.path + ".active"
             try:
-                with open(self.path + ".active", "wb") as f:
-                    f.write(active_placeholder())
-            except OSError as exc:
+                write_target(self.path)  # refuses a directory, FIFO or device, early
+                self._file = open_active(active)
+                self._writer = StreamWriter(self._file, compression=compression,
+                                            chunk_threshold=1024 * chunksize)
+            except (OSError, ROSBagException) as exc:
+                if self._file is not None:
+                    self._file.close()
                 self.node.shutdown("cannot open the bag file")
-                raise ROSBagException(f"Error writing: {self.path}.active: {exc.strerror}") from None
+                why = exc.strerror if isinstance(exc, OSError) else str(exc)
+                raise ROSBagException(f"Error writing: {active}: {why}") from None
+        _registry(world).append(self)
         if not regex:
             for topic in self.topics:
                 self._subscribe(self.node.resolve_name(topic))
@@ -233,15 +276,43 @@ class Recorder:
             return
         self._stopped = True
         self.stop_reason = reason
-        if self.path is not None:
-            self.node.loginfo("Closing '%s'.", self.path)
-        self.node.shutdown(f"rosbag record: {reason}")
-        if self.path is not None:
-            self.bag.save(self.path)
+        try:
+            if self.path is not None:
+                self.node.loginfo("Closing '%s'.", self.path)
+            self.node.shutdown(f"rosbag record: {reason}")
+        finally:  # the file is closed even if printing fails (a closed pipe)
+            reg = _registry(self.world)
+            if self in reg:
+                reg.remove(self)
+            if self.path is not None:
+                self._close_file()
         self.world.record("rosbag.stop", self.node.name, reason=reason,
                           messages=self.bag.get_message_count())
         if not self.done.triggered:
             self.done.succeed(self.bag)
+
+    def flush(self) -> None:
+        """Write the open chunk to ``NAME.bag.active`` now (what a killed process keeps)."""
+        if self._writer is not None and not self._stopped:
+            try:
+                self._writer.flush()
+            except OSError as exc:
+                raise ROSBagException(f"Error writing: {self.path}.active: {exc.strerror}; "
+                                      "free some space or record elsewhere") from None
+
+    def _close_file(self) -> None:
+        assert self.path is not None and self._writer is not None and self._file is not None
+        active = self.path + ".active"
+        try:
+            try:
+                self._writer.close()
+            finally:
+                self._file.close()
+            os.replace(active, write_target(self.path))
+        except OSError as exc:
+            raise ROSBagException(f"Error closing {active} as {self.path}: {exc.strerror}; the "
+                                  f"chunks written so far stay in {active} (rosbag reindex "
+                                  "recovers them)") from None
 
     @property
     def is_recording(self) -> bool:
@@ -300,7 +371,15 @@ class Recorder:
                 and t - self._start_ns > self._duration_ns:
             self.stop("duration")
             return
-        self.bag._write_raw(topic, msg._connection_header, msg._buff, t)
+        bag = self.bag
+        bag._write_raw(topic, msg._connection_header, msg._buff, t)
+        if self._writer is not None:
+            cid = bag._log[-1][1]
+            try:
+                self._writer.add(t, bag._connections[cid], msg._buff)
+            except OSError as exc:
+                raise ROSBagException(f"Error writing: {self.path}.active: {exc.strerror}; "
+                                      "free some space or record elsewhere") from None
         left = self._counts.get(topic, 0)
         if left > 0:
             left -= 1
