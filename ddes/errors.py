@@ -16,6 +16,7 @@ would stop pytest and Jupyter kernels, so ddes's is not.
 from __future__ import annotations
 
 __all__ = [
+    "BadYieldError",
     "DdesAttributeError",
     "DdesError",
     "DdesKeyError",
@@ -89,6 +90,10 @@ class RunawayError(WorldError):
     The message names the node, the callback and the simulated time, and the
     budget that stopped it (``World(wall_budget=..., instant_budget=...)``).
     """
+
+
+class BadYieldError(DdesTypeError):
+    """A process or generator callback yielded something that is not an event (``yield 5``)."""
 
 
 class DigestError(WorldError):

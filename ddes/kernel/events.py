@@ -28,6 +28,7 @@ import simpy
 from simpy.core import EmptySchedule, StopSimulation
 from simpy.events import NORMAL, PENDING, URGENT, Event, Timeout
 
+from ddes.errors import BadYieldError
 from ddes.time.sleep import MUST_YIELD
 
 __all__ = [
@@ -100,6 +101,17 @@ class NsEnvironment(simpy.Environment):
             event.callbacks = callbacks[callbacks.index(callback) + 1:]
             self.schedule(event, URGENT)
             raise
+        except RuntimeError as error:
+            # SimPy's "Invalid yield value" (a process yielded a non-event) becomes a typed
+            # error naming the value and the fix; a node's process crashes its node.
+            process = getattr(callback, "__self__", None)
+            if not isinstance(process, simpy.Process) or "Invalid yield value" not in str(error):
+                raise
+            bad = bad_yield(process, str(error))
+            hook = self.on_failure
+            if hook is not None and hook(process, bad):
+                return
+            raise bad from None
         if not event._ok and not hasattr(event, "_defused"):
             # The event failed and nobody defused it: crash the run (SimPy's rule),
             # unless the world's failure policy takes it (a node's main process).
@@ -123,6 +135,16 @@ class ZeroTimeLivelock(Exception):  # noqa: N818 - an internal signal, turned in
     def __init__(self, t_ns: int, count: int, event: Event) -> None:
         super().__init__(t_ns, count)
         self.t_ns, self.count, self.event = t_ns, count, event
+
+
+def bad_yield(process: simpy.Process, simpy_text: str) -> BadYieldError:
+    """The typed error for a process that yielded something that is not an event."""
+    start = simpy_text.find('Invalid yield value "')
+    value = simpy_text[start + len('Invalid yield value "'):].rsplit('"', 1)[0] if start >= 0 else "?"
+    return BadYieldError(
+        f"the process {process.name} yielded {value}, which is not an event: yield only events, "
+        "such as node.sleep(0.5), rate.sleep(), proxy(request) or world.timeout(1.0) "
+        "(a plain value cannot be waited for)")
 
 
 class NeverYieldedWarning(RuntimeWarning):

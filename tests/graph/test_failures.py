@@ -147,3 +147,24 @@ def test_a_failing_run_has_the_same_digest_on_every_path() -> None:
         world.run(until=1)
         digests.add(world.digest())
     assert len(digests) == 1
+
+
+@pytest.mark.parametrize("strict", [False, True])
+def test_a_process_yielding_a_non_event_is_a_typed_error(strict: bool) -> None:
+    world = ddes.World(strict=strict)
+    lines: list[str] = []
+    world.log_output = lambda line, level: lines.append(line)
+    node = world.create_node("n")
+
+    def main() -> Generator[Any, Any, None]:
+        yield node.sleep(0.1)
+        yield 5  # type: ignore[misc]
+
+    node.process(main())
+    if strict:
+        with pytest.raises(ddes.errors.BadYieldError, match="yielded 5, which is not an event"):
+            world.run(until=1)
+        return
+    world.run(until=1)
+    assert node.is_shutdown()
+    assert any("BadYieldError" in ln and "yielded 5" in ln for ln in lines)
