@@ -69,6 +69,8 @@ class Watchdog:
             return self
         self._old_handler = old
         self._last_steps = self.env.steps  # type: ignore[attr-defined]
+        # The wall clock, on purpose: it only stops code that would never stop and
+        # decides nothing in the trace (see the module docstring).
         self._last_change = time.monotonic()
         signal.signal(signal.SIGALRM, _Handler(self))
         interval = min(max(self.budget / 4, 0.05), 1.0)

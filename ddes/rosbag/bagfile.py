@@ -206,19 +206,9 @@ def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out:
 
     def close_chunk(ch: _ChunkWriter) -> None:
         nonlocal pos
-        raw = bytes(ch.buf)
-        packed = _compress(compression, raw)
-        head = encode_header({"op": _B.pack(OP_CHUNK), "compression": compression.encode(),
-                              "size": _U32.pack(len(raw))})
-        parts = [_U32.pack(len(head)), head, _U32.pack(len(packed)), packed]
-        for cid, entries in ch.index.items():
-            body = b"".join(pack_time(t) + _U32.pack(off) for t, off in entries)
-            parts.append(encode_record({"op": _B.pack(OP_INDEX_DATA), "conn": _U32.pack(cid),
-                                        "ver": _U32.pack(1), "count": _U32.pack(len(entries))},
-                                       body))
-        blob = b"".join(parts)
+        blob, packed_size, raw_size = _chunk_blob(ch, compression)
         out.write(blob)
-        chunks.append(ChunkStat(pos, compression, len(packed), len(raw), ch.start, ch.end,
+        chunks.append(ChunkStat(pos, compression, packed_size, raw_size, ch.start, ch.end,
                                 {cid: len(e) for cid, e in ch.index.items()}))
         pos += len(blob)
 
