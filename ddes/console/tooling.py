@@ -26,6 +26,7 @@ output; it is what notebooks and autograders call.
 from __future__ import annotations
 
 import importlib
+import os
 import shlex
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -87,10 +88,19 @@ class ToolContext:
     out: Callable[[str], None] = print
     err: Callable[[str], None] = print
     jobs: list[Job] = field(default_factory=list)
+    #: The console's working directory (``roscd`` changes it); None: the process's own.
+    cwd: str | None = None
 
     def __post_init__(self) -> None:
         if self.rospack is None:
             self.rospack = self.world.rospack
+
+    def resolve_path(self, path: str) -> str:
+        """``path`` as the tools open it: relative paths start at :attr:`cwd` (``roscd``)."""
+        expanded = os.path.expanduser(path)
+        if self.cwd is None or os.path.isabs(expanded):
+            return expanded
+        return os.path.join(self.cwd, expanded)
 
     def print(self, text: str = "") -> None:
         """Write a line to the tool's standard output."""
