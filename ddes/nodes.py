@@ -14,6 +14,11 @@ receives the started :class:`~ddes.graph.node.Node`:
 ``__name:=`` and launch ``name=`` override it.  ``log_style`` selects how
 its log lines print (``"rospy"`` or ``"roscpp"``), so a C++ tutorial node prints
 ``[ INFO] [...]`` as roscpp does.
+
+What a node program writes to standard output or error outside its logger
+(``rosbag play``'s ``Hit space to toggle paused``) goes through
+:func:`print_line`; the directory it was started in (relative file names,
+``rosbag record -O x``) is :func:`node_cwd`.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ from types import GeneratorType
 from typing import TYPE_CHECKING, Union
 
 from ddes.errors import DdesError
+from ddes.graph.rosout import ERROR, INFO
 
 if TYPE_CHECKING:
     import simpy
@@ -36,7 +42,8 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
-__all__ = ["NodeMain", "NodeType", "NodeTypeNotFound", "load_node_types", "start_node"]
+__all__ = ["NodeMain", "NodeType", "NodeTypeNotFound", "load_node_types", "node_cwd",
+           "print_line", "start_node"]
 
 #: A node type's ``main(node)``: a plain function (set up, then spin) or a generator function
 #: (the main loop; it may return an int exit code).
@@ -86,8 +93,13 @@ def start_node(
     namespace: str = "/",
     argv: Sequence[str] = (),
     remappings: dict[str, str] | None = None,
+    cwd: str | None = None,
 ) -> Node:
-    """Start ``package/node_type`` in ``world`` (``rosrun package node_type argv...``)."""
+    """Start ``package/node_type`` in ``world`` (``rosrun package node_type argv...``).
+
+    ``cwd`` is the directory the program runs in (the console's after ``roscd``): relative file
+    names the node opens start there (:func:`node_cwd`); None is the process's own.
+    """
     rospack = rospack or world.rospack
     types = load_node_types(rospack.get_path(package))
     try:
@@ -101,6 +113,8 @@ def start_node(
     node = world.create_node(name or nt.name, namespace=namespace, argv=list(argv),
                              remappings=remappings, anonymous=nt.anonymous and name is None,
                              log_style=nt.log_style)
+    if cwd is not None:
+        world.extension(_CWD_KEY, _new_cwd_table)[node] = cwd
     result = nt.main(node)
     if type(result) is GeneratorType:
         proc = node.process(result)
@@ -119,3 +133,40 @@ def start_node(
 
         proc.callbacks.append(finished)
     return node
+
+
+_CWD_KEY = "nodes.cwd"
+
+
+def _new_cwd_table(_world: object) -> dict[Node, str]:
+    return {}
+
+
+def node_cwd(node: Node) -> str | None:
+    """The directory ``node``'s program was started in (``start_node(cwd=...)``), or None (the
+    process's working directory)."""
+    table = node.world.extensions.get(_CWD_KEY)
+    return table.get(node) if isinstance(table, dict) else None
+
+
+def print_line(node: Node, text: str, *, stderr: bool = False) -> None:
+    """A line the program of ``node`` prints on standard output (or error), not through its logger.
+
+    It reaches the world's console (``world.log_output``) as the node's own output: a launch
+    node without ``output="screen"`` shows only its standard error, as roslaunch sends standard
+    output to the log file; ``rosrun --quiet`` likewise.  Standard output counts as INFO and
+    standard error as ERROR for that choice.  With no console (``log_output`` None) nothing prints.
+    """
+    sink = node.world.log_output
+    if sink is None:
+        return
+    level = ERROR if stderr else INFO
+    # A LogRouter (ddes.launch.runtime, a layer above) routes by node: ask it for this node's
+    # level directly instead of letting it guess the node from the latest trace event.
+    levels = getattr(sink, "levels", None)
+    printer = getattr(sink, "out", None)
+    if isinstance(levels, dict) and node.name in levels and callable(printer):
+        if level >= levels[node.name]:
+            printer(text)
+        return
+    sink(text, level)

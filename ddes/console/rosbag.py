@@ -106,6 +106,11 @@ def _parser(io: _IO, cmd: str, usage: str) -> _Parser:
     return _Parser(io, prog=f"rosbag {cmd}", usage=usage, description=_COMMANDS[cmd])
 
 
+def _resolve(io: _IO, path: str) -> str:
+    """``path`` as the tool opens it: relative to the console's directory (``roscd``)."""
+    return io.ctx.resolve_path(path) if io.ctx is not None else path
+
+
 def _reason(exc: BaseException, path: str) -> str:
     text = str(exc)
     return text[len(path) + 2:] if text.startswith(path + ": ") else text
@@ -128,7 +133,7 @@ def _info(io: _IO, argv: list[str]) -> int:
         p.error("You can only specify key when printing in YAML format.")
     for i, path in enumerate(a.bags):
         try:
-            bag = Bag(path, "r", skip_index=not a.freq)
+            bag = Bag(_resolve(io, path), "r", skip_index=not a.freq, filename=path)
             if a.yaml:
                 try:
                     io.out(bag.yaml_info(a.key, freq=a.freq))
@@ -167,12 +172,12 @@ def _check(io: _IO, argv: list[str]) -> int:
         return _refuse(io, ["--genrules (migration rules)"])
     path = a.bags[0]
     try:
-        result = check_bag(path, io.ctx.world.messages if io.ctx is not None else None)
+        result = check_bag(_resolve(io, path), io.ctx.world.messages if io.ctx is not None else None)
     except ROSBagUnindexedException:
         io.err(f"ERROR bag unindexed: {path}.  Run rosbag reindex.")
         return 1
     except ROSBagException as exc:
-        io.err(f"ERROR reading {path}: {_reason(exc, path)}")
+        io.err(f"ERROR reading {path}: {_reason(exc, _resolve(io, path))}")
         return 1
     for line in result.lines():
         io.out(line)
@@ -202,17 +207,18 @@ def _filter(io: _IO, argv: list[str]) -> int:
     if len(a.args) > 3:
         p.error("Too many arguments.")
     inbag, outbag, expr = a.args
-    if not os.path.isfile(inbag):
+    in_path, out_path = _resolve(io, inbag), _resolve(io, outbag)
+    if not os.path.isfile(in_path):
         io.err(f"Cannot locate input bag file [{inbag}]")
         return 2
-    if os.path.realpath(inbag) == os.path.realpath(outbag):
+    if os.path.realpath(in_path) == os.path.realpath(out_path):
         io.err(f"Cannot use same file as input and output [{inbag}]")
         return 3
     try:
         compile_expression(expr)
         if a.verbose_pattern:
             compile_expression(a.verbose_pattern, "print expression")
-        source = Bag(inbag)
+        source = Bag(in_path, filename=inbag)
     except ROSBagUnindexedException:
         io.err(f"ERROR bag unindexed: {inbag}.  Run rosbag reindex.")
         return 1
@@ -222,7 +228,7 @@ def _filter(io: _IO, argv: list[str]) -> int:
     result = Bag(None, "w")
     try:
         filter_bag(source, result, expr, print_expr=a.verbose_pattern, out=io.out)
-        result.save(outbag)
+        result.save(out_path)
     except DdesError as exc:
         io.err(f"ERROR: {exc}")
         return 1
@@ -249,19 +255,21 @@ def _bag_op(io: _IO, cmd: str, argv: list[str]) -> int:
     if not a.bags:
         p.error("You must specify at least one bag file.")
     failed = False
+    output_dir = None if a.output_dir is None else _resolve(io, a.output_dir)
     for path in a.bags:
+        where = _resolve(io, path)
         try:
             if cmd == "reindex":
-                skipped = reindex_file(path, output_dir=a.output_dir, force=a.force)
+                skipped = reindex_file(where, output_dir=output_dir, force=a.force)
             else:
                 kind = a.compression if cmd == "compress" else "none"
-                skipped = change_compression(path, kind, output_dir=a.output_dir, force=a.force)
+                skipped = change_compression(where, kind, output_dir=output_dir, force=a.force)
         except ROSBagUnindexedException:
             io.err(f"ERROR bag unindexed: {path}.  Run rosbag reindex.")
             failed = True
             continue
         except ROSBagException as exc:
-            io.err(f"ERROR reading {path}: {_reason(exc, path)}")
+            io.err(f"ERROR reading {path}: {_reason(exc, where)}")
             failed = True
             continue
         if skipped is not None and not a.quiet:
@@ -286,67 +294,52 @@ def _refuse(io: _IO, what: list[str]) -> int:
 def _record(io: _IO, argv: list[str]) -> int:
     from ddes.console.toolkit import run_task, take_background
     from ddes.rosbag import Recorder
+    from ddes.rosbag.options import BagOptionsError, add_record_arguments, record_options
+    from ddes.rosbag.recorder import default_record_date
 
     argv, background = take_background(argv)
     p = _parser(io, "record", "rosbag record TOPIC1 [TOPIC2 TOPIC3 ...]")
-    p.add_argument("topics", nargs="*")
-    p.add_argument("-a", "--all", action="store_true", help="record all topics")
-    p.add_argument("-e", "--regex", action="store_true", help="match topics using regular expressions")
-    p.add_argument("-p", "--publish", action="store_true", help="publish a msg when the record begin")
-    p.add_argument("-x", "--exclude", dest="exclude_regex", default="",
-                   help="exclude topics matching the follow regular expression")
-    p.add_argument("-q", "--quiet", action="store_true", help="suppress console output")
-    p.add_argument("-o", "--output-prefix", dest="prefix", help="prepend PREFIX to beginning of bag name")
-    p.add_argument("-O", "--output-name", dest="name", help="record to bag with name NAME.bag")
-    p.add_argument("--split", action="store_true", help="(not modelled by ddes)")
-    p.add_argument("--max-splits", type=int, help="(not modelled by ddes)")
-    p.add_argument("--size", type=int, help="(not modelled by ddes)")
-    p.add_argument("--duration", help="record a bag of maximum duration DURATION in seconds, "
-                                      "unless 'm', or 'h' is appended")
-    p.add_argument("-b", "--buffsize", type=int, default=256,
-                   help="internal buffer in MB (ddes queues nothing, so nothing is dropped)")
-    p.add_argument("--chunksize", type=int, default=768, help="Record to chunks of SIZE KB")
-    p.add_argument("-l", "--limit", dest="num", type=int, default=0,
-                   help="only record NUM messages on each topic")
-    p.add_argument("--node", help="record all topics subscribed to by a specific node")
-    p.add_argument("-j", "--bz2", dest="compression", action="store_const", const="bz2",
-                   help="use BZ2 compression")
-    p.add_argument("--lz4", dest="compression", action="store_const", const="lz4",
-                   help="use LZ4 compression")
-    p.add_argument("--tcpnodelay", action="store_true", help="(no effect in ddes)")
-    p.add_argument("--udp", action="store_true", help="(no effect in ddes)")
-    p.add_argument("--repeat-latched", action="store_true", help="(not modelled by ddes)")
-    a = p.parse_args(argv)
-    if not a.topics and not a.all and not a.node:
-        p.error("You must specify a topic name or else use the '-a' option.")
-    if a.prefix is not None and a.name is not None:
-        p.error("Can't set both prefix and name.")
-    if a.split and not a.duration and not a.size:
-        p.error("Split specified without giving a maximum duration or size")
-    unsupported = [o for o, on in (("--split", a.split), ("--size", a.size),
-                                   ("--max-splits", a.max_splits),
-                                   ("--repeat-latched", a.repeat_latched)) if on]
-    if unsupported:
-        return _refuse(io, unsupported)
+    add_record_arguments(p)
+    try:
+        opts = record_options(p.parse_args(argv))
+    except BagOptionsError as exc:
+        p.error(str(exc))
+    if opts.unsupported:
+        return _refuse(io, opts.unsupported)
     ctx = _need_world(io, "record")
     if ctx is None:
         return 1
-    ends = "the end of --duration" if a.duration else ("--limit messages" if a.num else None)
-    if ends is None and not background:
+    ends = opts.ends_by_itself
+    if ends is None and not background and not _open_ended(ctx):
         raise ROSConsoleError(
             "'rosbag record' runs until Ctrl+C in ROS; in ddes give --duration or --limit, or "
             "end the line with & to keep it recording in the background ('kill %N' stops it)")
+    if opts.node:
+        io.out(f"Recording from: {opts.node}")
+    if opts.exclude and not (opts.all or opts.regex):
+        io.err("Warning: Exclusion regex given, but no topics to subscribe to.")
+        io.err("Adding implicit 'record all'.")
+    if not opts.topics and opts.limit > 0:
+        io.err("Specifying a count is not valid with automatic topic subscription.")
+        return 1
     try:
-        rec = Recorder(ctx.world, a.topics, all=a.all, regex=a.regex,
-                       exclude=a.exclude_regex or None, limit=a.num, duration=a.duration,
-                       node=a.node, output_name=a.name, output_prefix=a.prefix,
-                       compression=a.compression or "none", chunksize=a.chunksize,
-                       publish=a.publish, quiet=a.quiet)
+        # DDES_BAG_DATE stands in for the machine's clock, which rosbag reads for default names.
+        rec = Recorder(ctx.world, opts.topics, cwd=ctx.cwd,
+                       date=default_record_date(ctx.world, os.environ), **opts.recorder_kwargs())
+    except ROSBagException as exc:
+        io.err(f"ERROR: {exc}")
+        return 1
     except DdesError as exc:
         io.err(f"ERROR: Error reading options: {exc}")
         return 1
     task = _task(ctx, "record", argv, rec.done, rec.stop, io)
     return run_task(ctx, task, background=background, duration=None, waiting_for=ends)
+
+
+def _open_ended(ctx: ToolContext) -> bool:
+    """A foreground command that runs until Ctrl+C can run here: interactively, or in a script
+    with a time limit (``ddes console --until``)."""
+    return getattr(ctx, "rtf", None) is not None or getattr(ctx, "until_ns", None) is not None
 
 
 def _task(ctx: ToolContext, cmd: str, argv: list[str], done: simpy.Event,
@@ -370,78 +363,41 @@ def _task(ctx: ToolContext, cmd: str, argv: list[str], done: simpy.Event,
 def _play(io: _IO, argv: list[str]) -> int:
     from ddes.console.toolkit import run_task, take_background
     from ddes.rosbag import Player
+    from ddes.rosbag.options import add_play_arguments, play_options
+    from ddes.rosbag.player import NO_MESSAGES
 
     argv, background = take_background(argv)
     p = _parser(io, "play", "rosbag play BAGFILE1 [BAGFILE2 BAGFILE3 ...]")
-    p.add_argument("bagfiles", nargs="*")
-    p.add_argument("-p", "--prefix", default="", help="prefix all output topics")
-    p.add_argument("-q", "--quiet", action="store_true", help="suppress console output")
-    p.add_argument("-i", "--immediate", action="store_true",
-                   help="play back all messages without waiting")
-    p.add_argument("--pause", action="store_true", help="start in paused mode")
-    p.add_argument("--queue", type=int, default=100, help="use an outgoing queue of size SIZE")
-    p.add_argument("--clock", action="store_true", help="publish the clock time")
-    p.add_argument("--hz", type=float, default=100.0,
-                   help="use a frequency of HZ when publishing clock time")
-    p.add_argument("-d", "--delay", type=float, default=0.2,
-                   help="sleep SEC seconds after every advertise call")
-    p.add_argument("-r", "--rate", type=float, default=1.0,
-                   help="multiply the publish rate by FACTOR")
-    p.add_argument("-s", "--start", type=float, default=0.0,
-                   help="start SEC seconds into the bag files")
-    p.add_argument("-u", "--duration", type=float, help="play only SEC seconds from the bag files")
-    p.add_argument("--skip-empty", type=float,
-                   help="skip regions in the bag with no messages for more than SEC seconds")
-    p.add_argument("-l", "--loop", action="store_true", help="loop playback")
-    p.add_argument("-k", "--keep-alive", action="store_true",
-                   help="keep alive past end of bag (useful for publishing latched topics)")
-    p.add_argument("--try-future-version", action="store_true", help="(no effect in ddes)")
-    p.add_argument("--topics", nargs="+", default=[], help="topics to play back")
-    p.add_argument("--pause-topics", nargs="+", default=[], help="(not modelled by ddes)")
-    p.add_argument("--bags", action="append", default=[], help="bags files to play back from")
-    p.add_argument("--wait-for-subscribers", action="store_true",
-                   help="wait for at least one subscriber on each topic before publishing")
-    p.add_argument("--rate-control-topic", default="", help="(not modelled by ddes)")
-    p.add_argument("--rate-control-max-delay", type=float, default=1.0, help="(not modelled)")
-    a = p.parse_args(argv)
-    files = a.bagfiles + a.bags
-    if not files:
+    add_play_arguments(p)
+    opts = play_options(p.parse_args(argv))
+    if not opts.bags:
         p.error("You must specify at least 1 bag file to play back.")
-    unsupported = [o for o, on in (("--pause-topics", a.pause_topics),
-                                   ("--rate-control-topic", a.rate_control_topic)) if on]
-    if unsupported:
-        return _refuse(io, unsupported)
+    if opts.unsupported:
+        return _refuse(io, opts.unsupported)
     ctx = _need_world(io, "play")
     if ctx is None:
         return 1
-    endless = [o for o, on in (("--loop", a.loop), ("--keep-alive", a.keep_alive),
-                               ("--pause", a.pause),
-                               ("--wait-for-subscribers", a.wait_for_subscribers)) if on]
-    if endless and not background:
+    endless = opts.endless
+    if endless and not background and not _open_ended(ctx):
         raise ROSConsoleError(
             f"'rosbag play {endless[0]}' may run until Ctrl+C; in ddes end the line with & to "
             "keep it playing in the background ('kill %N' stops it)")
-    from ddes.rosbag import Bag
-
-    bags = []
-    for path in files:
-        try:
-            bags.append(Bag(path))
-        except ROSBagUnindexedException:
-            io.err(f"Bag file {path} is unindexed.  Run rosbag reindex.")
-            return 1
-        except ROSBagException as exc:
-            io.err(f"ERROR reading {path}: {_reason(exc, path)}")
-            return 1
     try:
-        player = Player(ctx.world, bags, prefix=a.prefix, quiet=a.quiet, immediate=a.immediate,
-                        pause=a.pause, queue_size=a.queue, clock=a.clock, hz=a.hz,
-                        delay=a.delay, rate=a.rate, start=a.start, duration=a.duration,
-                        skip_empty=a.skip_empty, loop=a.loop, keep_alive=a.keep_alive,
-                        topics=a.topics, wait_for_subscribers=a.wait_for_subscribers,
-                        out=io.out)
+        player = Player(ctx.world, opts.bags, cwd=ctx.cwd, out=io.out, **opts.player_kwargs())
+    except ROSBagUnindexedException as exc:
+        io.err(str(exc))
+        return 1
+    except ROSBagException as exc:
+        text = str(exc)
+        if text == NO_MESSAGES:
+            io.err(text)
+        elif any(text.startswith(f"{path}: ") for path in opts.bags):
+            io.err(f"ERROR reading {text}")
+        else:
+            io.err(f"ERROR: {text}")
+        return 1
     except DdesError as exc:
-        io.err(str(exc) if "No messages to play" in str(exc) else f"ERROR: {exc}")
+        io.err(f"ERROR: {exc}")
         return 1
     task = _task(ctx, "play", argv, player.done, player.stop, io)
     return run_task(ctx, task, background=background, duration=None,

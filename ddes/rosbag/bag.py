@@ -281,6 +281,11 @@ class Bag:
         at most 1000x the file's size (at least 64 MiB); past that ddes raises
         ResourceLimitError before decompressing.  An int trusts each chunk up
         to that many bytes instead (for genuine, very compressible bags).
+    filename:
+        The name the bag goes by (:attr:`filename`, ``rosbag info``'s
+        ``path:``, error messages) when it is not ``f`` itself: a program
+        opening ``x.bag`` in its own directory passes the joined path as
+        ``f`` and ``"x.bag"`` here.
     """
 
     def __init__(self, f: str | os.PathLike[str] | IO[bytes] | None = None,
@@ -289,7 +294,7 @@ class Bag:
                  options: BagOptions | None = None, skip_index: bool = False, *,
                  clock: BagClock | None = None, format: str | None = None,
                  registry: MessageRegistry | None = None,
-                 max_chunk_size: int | None = None) -> None:
+                 max_chunk_size: int | None = None, filename: str | None = None) -> None:
         if options is not None:
             if not isinstance(options, dict):
                 raise DdesTypeError(f"options must be a dict, got {options!r}")
@@ -342,11 +347,19 @@ class Bag:
                     self._load(data, "<file object>", allow_unindexed)
             return
         path = os.fspath(f)
-        self._filename = self._path = str(path)
+        self._path = str(path)
+        self._filename = self._path if filename is None else filename
         if self._format is None:
             self._format = "mcap" if _is_mcap_name(path) else "bag"
         if mode == "r" or (mode == "a" and os.path.exists(path)):
-            self._load(read_file(path), self._filename, allow_unindexed)
+            try:
+                data = read_file(path)
+            except ROSBagException as exc:
+                text = str(exc)
+                if filename is None or not text.startswith(f"{path}: "):
+                    raise
+                raise type(exc)(f"{filename}: {text[len(str(path)) + 2:]}") from None
+            self._load(data, self._filename, allow_unindexed)
         if mode in ("w", "a"):
             self._start_active()
 

@@ -32,6 +32,21 @@ A loop that would take no simulated time (``immediate``, a bag spanning
 zero time, or every gap skipped) raises ROSBagException instead of
 publishing without end at one instant.  Not modelled: the
 ``~pause_playback`` service, ``--pause-topics``, ``--rate-control-topic``.
+
+What it prints is play.cpp's: ``[ INFO] [t]: Opening x.bag`` (the node's
+roscpp-style log, for every bag given as a path or a named Bag), then on
+``out`` (standard output): an empty line, ``Waiting 0.2 seconds after
+advertising topics... done.``, an empty line, ``Hit space to toggle paused,
+or 's' to step.``, the status line and ``Done.``.  play.cpp rewrites its
+status line `` [RUNNING]  Bag Time: ...   Duration: ... / ...`` in place
+(``\r``) about every 0.1 s; a transcript shows it **once per pass over the
+bag, as the terminal shows it when the pass ends** (the values of play.cpp's
+last rewrite: the bag time where it last waited, 0.1 s ticks of the wall clock
+scaled by the rate), and once more, with the time reached, when playback is
+stopped (kill, Ctrl+C, the node shut down); no trailing blanks.  ``quiet``
+drops the first empty line and the status lines, as ``-q`` does.  A stopped
+player prints no ``Done.``.  With ``on_node`` the player runs on that node
+(the ``rosbag/play`` node type); ``cwd`` is where relative bag paths start.
 """
 
 from __future__ import annotations
@@ -43,8 +58,9 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from fractions import Fraction
 from typing import IO, TYPE_CHECKING, ClassVar, Union
 
-from ddes.errors import DdesValueError, ROSBagException
+from ddes.errors import DdesValueError, ROSBagException, ROSBagUnindexedException
 from ddes.rosbag.bag import Bag
+from ddes.rosbag.options import resolve_path
 from ddes.rosbag.recorder import roscpp_duration_ns
 from ddes.rosbag.records import ConnectionInfo
 from ddes.time.rate import roscpp_period_ns
@@ -55,11 +71,15 @@ if TYPE_CHECKING:
     import simpy
     from simpy.events import ProcessGenerator
 
+    from ddes.graph.node import Node
     from ddes.graph.topics import Publisher
     from ddes.graph.world import World
     from ddes.msg.message import MessageClass
 
-__all__ = ["BagSource", "Player", "RawBytes", "raw_message_class"]
+__all__ = ["NO_MESSAGES", "BagSource", "Player", "RawBytes", "raw_message_class"]
+
+#: play.cpp's words (on standard error) when the view to play is empty.
+NO_MESSAGES = "No messages to play on specified topics.  Exiting."
 
 #: A bag to play: a :class:`~ddes.rosbag.Bag` or the path of a .bag/MCAP file.
 BagSource = Union[Bag, str, "os.PathLike[str]"]
@@ -110,6 +130,21 @@ def _check_seconds(value: float, what: str, minimum: float | None = None,
     return value
 
 
+#: play.cpp rewrites its status line every 0.1 s of wall time (``runClock(WallDuration(.1))``).
+_STATUS_TICK_NS = 100_000_000
+
+
+def _to_sec(ns: int) -> float:
+    """``ros::Time::toSec()``/``Duration::toSec()``: ``sec + 1e-9 * nsec`` (nsec in [0, 1e9))."""
+    sec, nsec = divmod(ns, 1_000_000_000)
+    return float(sec) + 1e-9 * float(nsec)
+
+
+def _scale(kernel_ns: int, rate: Fraction) -> int:
+    """Bag nanoseconds that pass in ``kernel_ns`` at ``rate``."""
+    return kernel_ns * rate.numerator // rate.denominator
+
+
 class Player:
     """``rosbag play`` on a world; :attr:`done` fires when playback ends.
 
@@ -126,11 +161,11 @@ class Player:
                  start: float = 0.0, duration: float | None = None,
                  skip_empty: float | None = None, loop: bool = False, keep_alive: bool = False,
                  topics: Iterable[str] = (), wait_for_subscribers: bool = False,
-                 name: str = "play", out: Callable[[str], None] | None = None) -> None:
+                 name: str = "play", out: Callable[[str], None] | None = None,
+                 on_node: Node | None = None, cwd: str | None = None) -> None:
         items = [bags] if isinstance(bags, (Bag, str, os.PathLike)) else list(bags)
         if not items:
             raise DdesValueError("You must specify at least one bag file to play from")
-        self.bags = [b if isinstance(b, Bag) else Bag(b) for b in items]
         if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not math.isfinite(rate) \
                 or rate <= 0:
             raise DdesValueError(f"rate must be a finite factor > 0, got {rate!r}")
@@ -150,31 +185,26 @@ class Player:
         self.publish_clock = clock
         self.wait_for_subscribers = wait_for_subscribers
         self.queue_size = queue_size
-        self._out = out if out is not None and not quiet else (lambda _line: None)
+        self.quiet = quiet
+        self._out: Callable[[str], None] = out if out is not None else (lambda _line: None)
         self._rate = Fraction(rate)
         self.topics = list(topics)
-        firsts = [b._span()[0] for b in self.bags if b.get_message_count()]
-        if not firsts:
-            raise ROSBagException("No messages to play on specified topics.  Exiting.")
-        self._full_begin = min(firsts)
-        self._initial = self._full_begin + start_ns
-        self._finish = None if dur_ns is None else self._initial + dur_ns
-        self._views = [b._select(self.topics or None) for b in self.bags]
-        used: dict[tuple[int, int], None] = {}
-        first_t = last_t = -1
-        for t, i, cid, _data in self._view():
-            if first_t < 0:
-                first_t = t
-            last_t = t
-            used.setdefault((i, cid))
-        if not used:
-            raise ROSBagException("No messages to play on specified topics.  Exiting.")
-        if loop and (immediate or last_t == first_t):
-            raise ROSBagException(
-                "--loop with " + ("--immediate" if immediate else "a view spanning no time") +
-                " would publish without end at one simulated instant; drop --loop or play a "
-                "longer span")
-        self.node = world.create_node(name, anonymous=True, use_sim_time=False)
+        self.node = on_node if on_node is not None else world.create_node(
+            name, anonymous=True, use_sim_time=False, log_style="roscpp")
+        self._own_node = on_node is None
+        try:
+            self.bags = [self._open(b, cwd) for b in items]
+            if prefix:
+                self.node.loginfo("Using prefix '%s'' for topics ", prefix)
+            if not quiet:
+                self._out("")
+            first_t, last_t, used = self._plan(start_ns, dur_ns)
+        except BaseException:
+            if self._own_node:
+                self.node.shutdown("rosbag play could not start")
+            raise
+        #: The first and last message time of the view (play.cpp's start_time_ and bag_length_).
+        self._view_begin, self._view_end = first_t, last_t
         from ddes.msg import get_message_class
 
         self._Clock = get_message_class("rosgraph_msgs/Clock")
@@ -187,6 +217,13 @@ class Player:
         self._paused = bool(pause)
         self._step = False
         self._stopped = False
+        #: play.cpp's last status line: (paused, bag time ns), and whether it has been shown.
+        self._status: tuple[bool, int] | None = None
+        self._status_shown = True
+        self._status_printed = False
+        #: Where the wait for the next message began: (kernel ns, bag ns, rate); None: not waiting.
+        self._anchor: tuple[int, int, Fraction] | None = None
+        self._keep_alive_from: tuple[int, int] | None = None
         self._wake: simpy.Event = world.event()
         self._k_base = self._b_base = self._current = 0
         self._last_clock_k = -1
@@ -198,7 +235,47 @@ class Player:
         self.loops = 0
         #: Fires when playback has ended (or failed).
         self.done: simpy.Event = world.event()
+        self.node.on_shutdown(self._node_shut_down)
         self.process = self.node.process(self._run())
+
+    def _open(self, source: BagSource, cwd: str | None) -> Bag:
+        """A bag of ``source``, logging play.cpp's ``Opening NAME`` first."""
+        if isinstance(source, Bag):
+            if source.filename is not None:
+                self.node.loginfo("Opening %s", source.filename)
+            return source
+        label = os.fspath(source)
+        self.node.loginfo("Opening %s", label)
+        try:  # named as the user wrote it: "x.bag: no such bag file"
+            return Bag(resolve_path(label, cwd), filename=label)
+        except ROSBagUnindexedException:
+            raise ROSBagUnindexedException(
+                f"Bag file {label} is unindexed.  Run rosbag reindex.") from None
+
+    def _plan(self, start_ns: int, dur_ns: int | None) -> tuple[int, int, dict[tuple[int, int], None]]:
+        """The view to play: its first and last times and the (bag, connection) pairs used."""
+        firsts = [b._span()[0] for b in self.bags if b.get_message_count()]
+        if not firsts:
+            raise ROSBagException(NO_MESSAGES)
+        self._full_begin = min(firsts)
+        self._initial = self._full_begin + start_ns
+        self._finish = None if dur_ns is None else self._initial + dur_ns
+        self._views = [b._select(self.topics or None) for b in self.bags]
+        used: dict[tuple[int, int], None] = {}
+        first_t = last_t = -1
+        for t, i, cid, _data in self._view():
+            if first_t < 0:
+                first_t = t
+            last_t = t
+            used.setdefault((i, cid))
+        if not used:
+            raise ROSBagException(NO_MESSAGES)
+        if self.loop and (self.immediate or last_t == first_t):
+            raise ROSBagException(
+                "--loop with " + ("--immediate" if self.immediate else "a view spanning no time")
+                + " would publish without end at one simulated instant; drop --loop or play a "
+                "longer span")
+        return first_t, last_t, used
 
     # -- the view ---------------------------------------------------------------------------
     def _view(self, start: int | None = None, end: int | None = None,
@@ -245,6 +322,9 @@ class Player:
         if not self._paused:
             self._current = self._bag_now()
             self._paused = True
+            self._anchor = None
+            if self._status is not None:
+                self._set_status(True, self._current)
             self._poke()
 
     def resume(self) -> None:
@@ -252,6 +332,7 @@ class Player:
         if self._paused:
             self._paused = False
             self._rebase(self.world.now, self._current)
+            self._anchor = None
             self._poke()
 
     def toggle_pause(self) -> None:
@@ -284,12 +365,62 @@ class Player:
         """End playback now and shut the node down."""
         if self._stopped:
             return
+        if reason != "done":
+            self._show_status(final=True)  # play.cpp ends the status line it was rewriting
         self._stopped = True
         self.node.shutdown(f"rosbag play: {reason}")
         self.world.record("rosbag.done", self.node.name, reason=reason, published=self.published)
         self._poke()
         if not self.done.triggered:
             self.done.succeed(self.published)
+
+    def _node_shut_down(self, reason: str) -> None:
+        """The node went (rosnode kill, the launch's end): playback ends."""
+        if not self._stopped:
+            self.stop(f"node shut down: {reason}" if reason else "node shut down")
+
+    # -- the status line ------------------------------------------------------------------------
+    def status_line(self) -> str | None:
+        """play.cpp's status line as it stands (None before playback has begun)."""
+        if self._status is None:
+            return None
+        paused, b = self._status
+        return (f" [{'PAUSED ' if paused else 'RUNNING'}]  Bag Time: {_to_sec(b):13.6f}   "
+                f"Duration: {_to_sec(b - self._view_begin):.6f} / "
+                f"{_to_sec(self._view_end - self._view_begin):.6f}")
+
+    def _set_status(self, paused: bool, b: int) -> None:
+        self._status = (paused, b)
+        self._status_shown = False
+
+    def _show_status(self, final: bool = False) -> None:
+        """Print the status line unless it is shown already (or ``quiet``)."""
+        if final and not self._paused:
+            # stopped while waiting: the last 0.1 s rewrite before now
+            since = self._keep_alive_from or (self._anchor[:2] if self._anchor else None)
+            if since is not None:
+                k0, b0 = since
+                ticks = (self.world.now - k0) // _STATUS_TICK_NS
+                self._set_status(False, b0 + _scale(ticks * _STATUS_TICK_NS, self._rate))
+        if self._status is None or self._status_shown or self.quiet:
+            return
+        line = self.status_line()
+        self._status_shown = True
+        if line is not None:
+            self._out(line)
+            self._status_printed = True
+
+    def _status_after_wait(self, t: int) -> None:
+        """play.cpp printed the time every 0.1 s of the wait for a message at ``t``: the last."""
+        anchor, self._anchor = self._anchor, None
+        if anchor is None:
+            return
+        _k0, b0, rate = anchor
+        step = rate * _STATUS_TICK_NS
+        if t <= b0 or step <= 0:
+            return
+        ticks = -(-(t - b0) // step) - 1  # the last tick strictly before t
+        self._set_status(False, b0 + math.floor(ticks * step))
 
     @property
     def bag_time(self) -> Time:
@@ -352,7 +483,8 @@ class Player:
             return
         if not self._stopped:
             yield from self._drain()
-            self._out("")
+            if not self._status_printed:  # play.cpp ends its status line: without one, a blank
+                self._out("")
             self._out("Done.")
             self.stop("done")
 
@@ -376,9 +508,12 @@ class Player:
         if self._initial > self._full_begin:
             self._republish_latched()
         if self.wait_for_subscribers:
+            self._out("Waiting for subscribers.")
             while not self._stopped and any(p.get_num_connections() == 0
                                             for p in self._pubs.values()):
                 yield self.world.timeout(0.1)
+            if not self._stopped:
+                self._out("Finished waiting for subscribers.")
         self.world.record("rosbag.play", self.node.name, bags=len(self.bags),
                           rate=float(self._rate), clock=self.publish_clock)
         while not self._stopped:
@@ -401,6 +536,7 @@ class Player:
             if self.keep_alive:
                 yield from self._keep_alive()
                 return
+            self._show_status()
             if not self.loop:
                 return
             if env.now == began:
@@ -422,17 +558,22 @@ class Player:
     def _do_publish(self, t: int, i: int, cid: int, data: bytes) -> ProcessGenerator:
         if self.immediate:
             self._emit(t, i, cid, data)
+            self._set_status(False, t)
             return
         if self._skip_ns is not None and t - self._bag_now() > self._skip_ns and not self._paused:
             self._emit(t, i, cid, data)
+            self._set_status(False, t)
             return
         env = self.world.env
         while not self._stopped:
             if self._paused:
+                self._anchor = None
                 if self._step:
                     self._step = False
                     self._emit(t, i, cid, data)
+                    self._set_status(True, t)
                     return
+                self._set_status(True, self._current)
                 tick = self._last_clock_k + self._tick_ns if self.publish_clock else None
                 if tick is not None and tick <= env.now:
                     self._publish_clock(self._current)
@@ -441,8 +582,11 @@ class Player:
                 continue
             due = self._kernel_at(t)
             if due <= env.now:
+                self._status_after_wait(t)
                 self._emit(t, i, cid, data)
                 return
+            if self._anchor is None or self._anchor[2] != self._rate:
+                self._anchor = (env.now, self._bag_now(), self._rate)
             tick = max(self._last_clock_k + self._tick_ns, env.now) if self.publish_clock else None
             if tick is not None and tick < due:
                 if tick <= env.now:
@@ -454,6 +598,7 @@ class Player:
 
     def _keep_alive(self) -> ProcessGenerator:
         env = self.world.env
+        self._keep_alive_from = (env.now, self._bag_now())
         while not self._stopped:
             if not self.publish_clock:
                 yield self._wait(None)

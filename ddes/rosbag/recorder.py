@@ -3,9 +3,11 @@
 It follows roscpp's recorder (ros_comm ``tools/rosbag/src/recorder.cpp``,
 ``record.cpp``):
 
-* an anonymous node ``/record_<n>``; each topic is subscribed as
-  ``AnyMsg`` (raw bytes plus the publisher's connection header) with a queue
-  of 100;
+* an anonymous node ``/record_<n>`` logging as roscpp does
+  (``[ INFO] [t]: Subscribing to /chatter``, ``Recording to 'x.bag'.``), or
+  the node it is given (``on_node``: the ``rosbag/record`` node type, named
+  as rosrun or roslaunch name it); each topic is subscribed as ``AnyMsg``
+  (raw bytes plus the publisher's connection header) with a queue of 100;
 * **the record time is the recorder's ROS time at receipt** (simulated time
   under ``/use_sim_time``), not the header stamp;
 * explicit topics (sorted, de-duplicated) are subscribed at once; with
@@ -20,7 +22,13 @@ It follows roscpp's recorder (ros_comm ``tools/rosbag/src/recorder.cpp``,
   past the start (the start is the first valid ROS time);
 * each distinct connection header gets its own connection, so a latched
   publisher is recorded with ``latching: 1`` and two publishers on a topic
-  show as two connections.
+  show as two connections; the header is the publisher's (callerid, topic,
+  type, md5sum, message_definition, latching), as record.cpp writes it;
+* when the node shuts down (``rosnode kill``, the end of a launch, Ctrl+C)
+  the recording stops and the bag is written, as record.cpp does on
+  shutdown; like it, nothing more is printed (record.cpp's ``Closing``
+  line comes after ``ros::shutdown()`` and never shows), and ``-q`` changes
+  nothing (record.cpp reads the flag but never uses it).
 
 Messages go into an in-memory :class:`~ddes.rosbag.Bag`
 (:attr:`Recorder.bag`) and, unless ``in_memory``, into the file
@@ -33,10 +41,19 @@ recording stops the index is written and the file renamed to ``NAME.bag``
 :func:`close_recordings` stops every open recording of a world (the
 console calls it at the end of a script, on Ctrl+D, SIGINT and SIGTERM).  File names follow ``-O``/``-o``:
 ``output_name`` gives exactly ``NAME.bag``; ``output_prefix`` gives
-``PREFIX_YYYY-MM-DD-HH-MM-SS.bag``; neither gives the date alone.  ddes has
-no wall clock, so the date is the world's kernel time (seconds since the
-epoch, in UTC unless ``tz`` is given, so names never depend on ``TZ``) when
-the recording starts: a world at 0 s records ``1970-01-01-00-00-00.bag``.
+``PREFIX_YYYY-MM-DD-HH-MM-SS.bag``; neither gives the date alone.  A relative
+name is written in ``cwd`` (the program's directory; None: the process's).
+
+The date.  rosbag reads the machine's clock; ddes has no wall clock, so the
+date is **the recording date of kernel time 0 plus the world's kernel time**
+when the recording starts, read in UTC (or ``tz``) so names never depend on
+``TZ``.  The date of kernel time 0 is ``Recorder(date=...)``, else the
+world's (:func:`set_record_date`), else 1970-01-01 00:00:00: a world at 0 s
+records ``1970-01-01-00-00-00.bag``.  The console's ``rosbag record`` and the
+``rosbag/record`` node type take it from ``DDES_BAG_DATE`` when the world has
+none (:func:`default_record_date`).  Dates are written as rosbag writes them
+(``2024-03-01-12-00-00``) or in ISO form (``2024-03-01T12:00:00``,
+``2024-03-01``).
 
 Not modelled: ``--split``/``--size``/``--max-splits``, ``--buffsize`` (nothing
 is queued, so nothing is dropped), ``--min-space``, ``--repeat-latched``,
@@ -48,12 +65,13 @@ from __future__ import annotations
 import datetime
 import os
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from typing import IO, TYPE_CHECKING
 
 from ddes.errors import DdesTypeError, DdesValueError, ROSBagException
 from ddes.rosbag.bag import Bag, open_active, write_target
 from ddes.rosbag.bagfile import StreamWriter
+from ddes.rosbag.options import bag_date_from_environment, resolve_path
 from ddes.time.rostime import Time
 from ddes.time.units import DurationLike, HasNsec, ns_to_sec, to_ns
 
@@ -61,11 +79,13 @@ if TYPE_CHECKING:
     import simpy
     from simpy.events import ProcessGenerator
 
+    from ddes.graph.node import Node
     from ddes.graph.topics import AnyMsg, Subscriber
     from ddes.graph.world import World
 
-__all__ = ["Recorder", "bag_filename", "close_recordings", "flush_recordings", "open_recordings",
-           "parse_duration", "roscpp_duration_ns"]
+__all__ = ["Recorder", "bag_filename", "close_recordings", "default_record_date",
+           "flush_recordings", "open_recordings", "parse_duration", "parse_record_date",
+           "record_date", "roscpp_duration_ns", "set_record_date"]
 
 _REGISTRY = "rosbag.recorders"
 
@@ -155,6 +175,79 @@ def bag_filename(output_prefix: str | None = None, output_name: str | None = Non
     return "_".join(parts) + ".bag"
 
 
+_DATE_KEY = "rosbag.record_date"
+_DATE_FORMS = ("give it as rosbag names files, YYYY-MM-DD-HH-MM-SS (2024-03-01-12-00-00), or in "
+               "ISO form (2024-03-01T12:00:00, 2024-03-01)")
+_EPOCH = datetime.datetime(1970, 1, 1, tzinfo=datetime.timezone.utc)
+
+
+def parse_record_date(value: str | datetime.datetime, tz: datetime.tzinfo | None = None) -> int:
+    """A recording date as nanoseconds since the epoch.
+
+    ``value`` is a :class:`datetime.datetime` or text: ``YYYY-MM-DD-HH-MM-SS`` (the form of
+    rosbag's file names), or ISO (``2024-03-01T12:00:00``, ``2024-03-01 12:00``,
+    ``2024-03-01``, with an optional ``Z``/``+01:00``).  A date without a zone is in ``tz``
+    (default UTC), so ``2024-03-01-12-00-00`` names a file ``..._2024-03-01-12-00-00.bag``.
+    """
+    if isinstance(value, datetime.datetime):
+        when = value
+    elif isinstance(value, str):
+        text = value.strip()
+        m = re.fullmatch(r"(\d{4})-(\d{2})-(\d{2})-(\d{2})-(\d{2})-(\d{2})", text)
+        try:
+            if m is not None:
+                year, month, day, hour, minute, second = (int(g) for g in m.groups())
+                when = datetime.datetime(year, month, day, hour, minute, second)
+            else:
+                when = datetime.datetime.fromisoformat(re.sub(r"[zZ]$", "+00:00", text))
+        except ValueError as exc:
+            raise DdesValueError(f"recording date {value!r} is not a date ({exc}); "
+                                 f"{_DATE_FORMS}") from None
+    else:
+        raise DdesTypeError(f"recording date must be text or a datetime, got {value!r}; "
+                            f"{_DATE_FORMS}")
+    if when.tzinfo is None:
+        when = when.replace(tzinfo=datetime.timezone.utc if tz is None else tz)
+    delta = when - _EPOCH
+    if delta < datetime.timedelta(0):
+        raise DdesValueError(f"recording date {value!r} is before 1970-01-01 (the epoch); "
+                             "give a later date")
+    return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + delta.microseconds * 1000
+
+
+def _new_date_table(_world: object) -> dict[str, int]:
+    return {}
+
+
+def set_record_date(world: World, date: str | datetime.datetime | None,
+                    tz: datetime.tzinfo | None = None) -> None:
+    """Set the date of kernel time 0 for the default names of ``world``'s recordings.
+
+    A recording that starts ``t`` kernel seconds later is named that date plus ``t``.
+    None clears it (back to 1970-01-01, or ``DDES_BAG_DATE`` in the console).
+    """
+    table: dict[str, int] = world.extension(_DATE_KEY, _new_date_table)
+    if date is None:
+        table.pop("ns", None)
+    else:
+        table["ns"] = parse_record_date(date, tz)
+
+
+def record_date(world: World) -> int | None:
+    """The date of kernel time 0 set with :func:`set_record_date` (ns since the epoch), or None."""
+    table = world.extensions.get(_DATE_KEY)
+    value = table.get("ns") if isinstance(table, dict) else None
+    return value if isinstance(value, int) else None
+
+
+def default_record_date(world: World, environ: Mapping[str, str]) -> str | None:
+    """The ``date`` the programs give a Recorder: None when the world has its own
+    (:func:`set_record_date`), else ``DDES_BAG_DATE`` of ``environ`` (None when unset)."""
+    if record_date(world) is not None:
+        return None
+    return bag_date_from_environment(environ)
+
+
 class Recorder:
     """``rosbag record`` on a world (see the module docstring for the rules).
 
@@ -163,8 +256,12 @@ class Recorder:
     ``duration`` (``--duration``), ``node`` (``--node``), ``output_name``
     (``-O``), ``output_prefix`` (``-o``), ``compression`` (``-j``/``--lz4``),
     ``chunksize`` in KB, ``publish`` (``-p``: latched ``begin_write`` with the
-    file name), ``quiet`` (``-q``).  ``in_memory=True`` writes no file;
-    ``name`` is the node's base name (made anonymous).
+    file name), ``quiet`` (``-q``: accepted; it changes nothing, as in
+    record.cpp).  ``in_memory=True`` writes no file; ``name`` is the node's
+    base name (made anonymous).  ``on_node`` records on that node instead of
+    a new one (the ``rosbag/record`` node type); ``cwd`` is the directory
+    relative file names start at; ``date`` the date of kernel time 0 for
+    default names (see the module docstring).
     """
 
     def __init__(self, world: World, topics: Iterable[str] = (), *, all: bool = False,
@@ -174,7 +271,9 @@ class Recorder:
                  output_prefix: str | None = None, compression: str = "none",
                  chunksize: int = 768, publish: bool = False, quiet: bool = False,
                  in_memory: bool = False, name: str = "record",
-                 tz: datetime.tzinfo | None = None) -> None:
+                 tz: datetime.tzinfo | None = None, on_node: Node | None = None,
+                 cwd: str | None = None,
+                 date: str | datetime.datetime | None = None) -> None:
         if isinstance(topics, str):
             topics = [topics]
         self.topics = sorted(set(topics))
@@ -192,17 +291,22 @@ class Recorder:
             self._exclude = re.compile(exclude) if exclude else None
             self._patterns = [re.compile(t) for t in self.topics] if regex else []
         except re.error as exc:
-            raise DdesValueError(f"Error reading options: bad regular expression: {exc}") from None
+            raise DdesValueError(f"bad regular expression: {exc}") from None
         self.world = world
         self.all, self.regex, self.limit, self.node_filter = all, regex, limit, node
         self._duration_ns = None if duration is None else parse_duration(duration)
-        self.node = world.create_node(name, anonymous=True, log_level="warn" if quiet else "info")
+        date_ns = parse_record_date(date, tz) if date is not None else (record_date(world) or 0)
+        self.node = on_node if on_node is not None else world.create_node(
+            name, anonymous=True, log_style="roscpp")
+        self._own_node = on_node is None
         #: The recording, in memory.
         self.bag = Bag(None, "w", compression=compression, chunk_threshold=1024 * chunksize,
                        clock=self.node)
-        #: The file written when the recording stops (None with ``in_memory``).
+        #: The file written when the recording stops, as rosbag names it (None with ``in_memory``).
         self.path: str | None = None if in_memory else bag_filename(
-            output_prefix, output_name, world.now, tz)
+            output_prefix, output_name, date_ns + world.now, tz)
+        #: Where that file is on disk: :attr:`path` from ``cwd``.
+        self.file_path: str | None = None if self.path is None else resolve_path(self.path, cwd)
         self._recording: set[str] = set()
         self._subs: dict[str, Subscriber[type[AnyMsg]]] = {}
         self._counts: dict[str, int] = {}
@@ -222,20 +326,22 @@ class Recorder:
                                                   queue_size=1, latch=True)
         self._file: IO[bytes] | None = None
         self._writer: StreamWriter | None = None
-        if self.path is not None:
-            active = self.path + ".active"
+        if self.file_path is not None:
+            active = self.file_path + ".active"
             try:
-                write_target(self.path)  # refuses a directory, FIFO or device, early
+                write_target(self.file_path)  # refuses a directory, FIFO or device, early
                 self._file = open_active(active)
                 self._writer = StreamWriter(self._file, compression=compression,
                                             chunk_threshold=1024 * chunksize)
             except (OSError, ROSBagException) as exc:
                 if self._file is not None:
                     self._file.close()
-                self.node.shutdown("cannot open the bag file")
+                if self._own_node:
+                    self.node.shutdown("cannot open the bag file")
                 why = exc.strerror if isinstance(exc, OSError) else str(exc)
-                raise ROSBagException(f"Error writing: {active}: {why}") from None
+                raise ROSBagException(f"Error writing: {self.path}.active: {why}") from None
         _registry(world).append(self)
+        self.node.on_shutdown(self._node_shut_down)
         if not regex:
             for topic in self.topics:
                 self._subscribe(self.node.resolve_name(topic))
@@ -277,19 +383,22 @@ class Recorder:
         self._stopped = True
         self.stop_reason = reason
         try:
-            if self.path is not None:
-                self.node.loginfo("Closing '%s'.", self.path)
             self.node.shutdown(f"rosbag record: {reason}")
         finally:  # the file is closed even if printing fails (a closed pipe)
             reg = _registry(self.world)
             if self in reg:
                 reg.remove(self)
-            if self.path is not None:
+            if self.file_path is not None:
                 self._close_file()
         self.world.record("rosbag.stop", self.node.name, reason=reason,
                           messages=self.bag.get_message_count())
         if not self.done.triggered:
             self.done.succeed(self.bag)
+
+    def _node_shut_down(self, reason: str) -> None:
+        """The node went (rosnode kill, the launch's end): write the bag, as record.cpp does."""
+        if not self._stopped:
+            self.stop(f"node shut down: {reason}" if reason else "node shut down")
 
     def flush(self) -> None:
         """Write the open chunk to ``NAME.bag.active`` now (what a killed process keeps)."""
@@ -301,14 +410,15 @@ class Recorder:
                                       "free some space or record elsewhere") from None
 
     def _close_file(self) -> None:
-        assert self.path is not None and self._writer is not None and self._file is not None
-        active = self.path + ".active"
+        assert self.file_path is not None and self._writer is not None
+        assert self._file is not None
+        active = self.file_path + ".active"
         try:
             try:
                 self._writer.close()
             finally:
                 self._file.close()
-            os.replace(active, write_target(self.path))
+            os.replace(active, write_target(self.file_path))
         except OSError as exc:
             raise ROSBagException(f"Error closing {active} as {self.path}: {exc.strerror}; the "
                                   f"chunks written so far stay in {active} (rosbag reindex "

@@ -146,7 +146,7 @@ def test_record_and_play_in_a_console(tmp_path: Path) -> None:
     assert recorded.get_message_count() == 10
     background = console.execute(f"rosbag record -O {tmp_path / 'bg'} /chatter &")
     assert background.code == 0
-    assert background.out.splitlines() == ["[INFO] [1.000000]: Subscribing to /chatter",
+    assert background.out.splitlines() == ["[ INFO] [1.000000001]: Subscribing to /chatter",
                                            f"[2] rosbag record -O {tmp_path / 'bg'} /chatter"]
     console.run("sleep 0.5")
     assert os.path.exists(tmp_path / "bg.bag.active")
@@ -161,7 +161,8 @@ def test_record_and_play_in_a_console(tmp_path: Path) -> None:
     assert played.out.splitlines()[-1] == "Done."
     assert "Hit space to toggle paused, or 's' to step." in played.out
     loop = console.execute(f"rosbag play -l -q {target}.bag &")
-    assert loop.out.startswith("[3] rosbag play")
+    assert loop.out.splitlines() == [f"[ INFO] [2.600000001]: Opening {target}.bag",
+                                     f"[3] rosbag play -l -q {target}.bag"]
     console.run("sleep 2")
     assert "rosbag play -l -q" in console.run("jobs")
     console.run("kill %3")
@@ -172,7 +173,10 @@ def test_rostopic_echo_shows_the_fields_of_played_messages(bag_file: str) -> Non
     context = ctx()
     assert run_command_result(context, f"rosbag play -q {bag_file} &").code == 0
     echoed = run_command_result(context, "rostopic echo -n 2 /s")
-    assert (echoed.code, echoed.out) == (0, 'data: "s0"\n---\ndata: "s1"\n---\n')
+    # -q keeps these lines, as in play.cpp (it drops only the empty first line and the status)
+    assert (echoed.code, echoed.out) == (0, "Waiting 0.2 seconds after advertising topics... "
+                                            "done.\n\nHit space to toggle paused, or 's' to "
+                                            'step.\ndata: "s0"\n---\ndata: "s1"\n---\n')
 
 
 def test_record_and_play_option_errors(tmp_path: Path) -> None:
