@@ -38,7 +38,7 @@ def main() -> None:
             yield server.sleep(2.0)
         res.sum = req.a + req.b
         server.loginfo("request: x=%ld, y=%ld", req.a, req.b)
-        server.loginfo("sending back response: [%ld]", res.sum)
+        server.loginfo("  sending back response: [%ld]", res.sum)
         return True
 
     # the server starts half a second after the client

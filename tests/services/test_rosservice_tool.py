@@ -95,7 +95,7 @@ class TestCall:
         assert lecture.now == 1_000_000_000 + 4 * L
         logs = [e.details["msg"] for e in lecture.trace.filter(kind="log",
                                                                source="/add_two_ints_server")]
-        assert logs == ["request: x=1, y=2", "sending back response: [3]"]
+        assert logs == ["request: x=1, y=2", "  sending back response: [3]"]
         # the caller was a temporary anonymous node, gone now
         assert sorted(lecture.nodes) == ["/add_two_ints_server"]
         assert lecture.env.peek() == float("inf")  # nothing left scheduled

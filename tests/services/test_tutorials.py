@@ -31,7 +31,7 @@ class TestRoscpp:
         start_node(world, "roscpp_tutorials", "add_two_ints_client", argv=["10", "5"])
         world.run(1)
         assert lines == ["[ INFO] [0.000300000]: request: x=10, y=5",
-                         "[ INFO] [0.000300000]: sending back response: [15]",
+                         "[ INFO] [0.000300000]:   sending back response: [15]",
                          "[ INFO] [0.000400000]: Sum: 15"]
         assert exits(world) == [("/add_two_ints_client", 0)]
 

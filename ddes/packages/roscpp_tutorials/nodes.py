@@ -53,7 +53,7 @@ def add_two_ints_server(node: Node) -> None:
     def add(req: Message, res: Message) -> bool:
         res.sum = req.a + req.b
         node.loginfo("request: x=%ld, y=%ld", req.a, req.b)
-        node.loginfo("sending back response: [%ld]", res.sum)
+        node.loginfo("  sending back response: [%ld]", res.sum)
         return True
 
     Service(node, "add_two_ints", get_service_class("roscpp_tutorials/TwoInts"), add,
