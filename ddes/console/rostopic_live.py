@@ -36,9 +36,10 @@ from ddes.errors import (
     UnsafeExpressionError,
 )
 from ddes.time.rostime import Duration, Time
-from ddes.time.units import ns_to_sec
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
+    import simpy
     from simpy.events import ProcessGenerator
 
     from ddes.console.tooling import ToolContext
@@ -46,8 +47,8 @@ if TYPE_CHECKING:
     from ddes.msg.anymsg import AnyMsg
     from ddes.msg.message import Message
 
-__all__ = ["TopicHz", "ValueTransform", "echo", "format_hz", "hz", "pub", "strify_for_echo",
-           "value_transform_factory"]
+__all__ = ["TopicHz", "ValueTransform", "echo", "end_of_instant", "format_hz",
+           "format_hz_table", "hz", "pub", "strify_for_echo", "value_transform_factory"]
 
 _ONCE_DELAY = 3.0
 
@@ -343,6 +344,28 @@ def format_hz(stats: tuple[float, float, float, float, int] | None) -> str:
             f"std dev: {std:.5f}s window: {window}")
 
 
+def format_hz_table(rows: list[tuple[str, tuple[float, float, float, float, int] | None]]) -> str:
+    """rostopic's report for several topics (``print_hz``): its table, or ``no new messages``.
+
+    Topics without new messages are left out.  rostopic appends each topic's window twice, so
+    from the second row on the window column shows an earlier topic's window; kept, as printed.
+    """
+    header = ["topic", "rate", "min_delta", "max_delta", "std_dev", "window"]
+    cols: dict[str, list[str]] = {h: [] for h in header}
+    for topic, hz in rows:
+        if hz is None:
+            continue
+        rate, min_d, max_d, std, win = hz
+        cols["window"].append(str(win))
+        cols["topic"].append(topic)
+        cols["rate"].append(f"{rate:.4}")
+        cols["min_delta"].append(f"{min_d:.4}")
+        cols["max_delta"].append(f"{max_d:.4}")
+        cols["std_dev"].append(f"{std:.4}")
+        cols["window"].append(str(win))
+    return _ascii_table(header, cols) if cols["topic"] else "no new messages"
+
+
 def _ascii_table(header: list[str], cols: dict[str, list[str]]) -> str:
     aligned: list[str] = []
     widths: list[int] = []
@@ -355,6 +378,40 @@ def _ascii_table(header: list[str], cols: dict[str, list[str]]) -> str:
     rows = len(cols[header[0]])
     body = "\n".join("   ".join(cols[h][i] for h in header) for i in range(rows))
     return "{}\n{}\n{}\n".format("   ".join(aligned), "=" * table_width, body)
+
+
+class _EndOfInstant:
+    """One event per instant that fires once the other events due then have run."""
+
+    #: At most this many rounds of zero-time waiting (a zero-time livelock elsewhere is caught
+    #: by the world's instant budget; this only keeps the wait itself finite).
+    MAX_ROUNDS = 10_000
+
+    def __init__(self, world: World) -> None:
+        self.world = world
+        self.at = -1
+        self.event: simpy.Event | None = None
+
+    def wait(self) -> simpy.Event:
+        env = self.world.env
+        if self.event is None or self.at != env.now or self.event.triggered:
+            self.at, self.event = env.now, env.event()
+            env.process(self._drive(self.event))
+        return self.event
+
+    def _drive(self, done: simpy.Event) -> ProcessGenerator:
+        env = self.world.env
+        for _ in range(self.MAX_ROUNDS):
+            if env.peek() != env.now:
+                break
+            yield env.timeout(0)  # queued behind everything already due now
+        done.succeed()
+
+
+def end_of_instant(world: World) -> simpy.Event:
+    """An event that fires when the events due at the current instant have run (shared by every
+    ``rostopic hz`` of the world, so two never wait for each other)."""
+    return world.extension("rostopic.hz.end_of_instant", _EndOfInstant).wait()
 
 
 def hz(ctx: ToolContext, argv: list[str]) -> int:
@@ -389,7 +446,9 @@ def hz(ctx: ToolContext, argv: list[str]) -> int:
     stats = {t: TopicHz(window) for t in topics}
 
     def now_sec() -> float:
-        return ns_to_sec(world.now) if options.use_wtime else node.get_time()
+        # rostopic: rospy.get_rostime().to_sec(), secs + nsecs / 1e9 (not ns / 1e9: the last bit
+        # shows in the table's std_dev)
+        return (Time._from_ns(world.now) if options.use_wtime else node.get_rostime()).to_sec()
 
     for topic in topics:
         filter_fn = _filter_fn(options.filter_expr, topic)
@@ -420,32 +479,36 @@ def hz(ctx: ToolContext, argv: list[str]) -> int:
     def reporter() -> ProcessGenerator:
         while not task.done:
             yield world.timeout(1)
+            # rostopic's 1 s sleep begins after its subscribe call returns: a message arriving
+            # in the instant the second ends is in the report (a 10 Hz topic shows window: 10)
+            yield end_of_instant(world)
             if task.done:
                 return
             if len(topics) == 1:
                 ctx.print(format_hz(stats[topics[0]].get_hz()))
             else:
-                header = ["topic", "rate", "min_delta", "max_delta", "std_dev", "window"]
-                cols: dict[str, list[str]] = {h: [] for h in header}
-                for topic in topics:
-                    hz = stats[topic].get_hz()
-                    if hz is None:
-                        continue
-                    rate, min_d, max_d, std, win = hz
-                    cols["topic"].append(topic)
-                    cols["rate"].append(f"{rate:.4}")
-                    cols["min_delta"].append(f"{min_d:.4}")
-                    cols["max_delta"].append(f"{max_d:.4}")
-                    cols["std_dev"].append(f"{std:.4}")
-                    cols["window"].append(str(win))
-                ctx.print(_ascii_table(header, cols) if cols["topic"] else "no new messages")
+                ctx.print(format_hz_table([(t, stats[t].get_hz()) for t in topics]))
             done[0] += 1
             if reports is not None and done[0] >= reports:
                 task.finish(0)
 
     world.env.process(reporter())
-    return run_task(ctx, task, background=background, duration=duration,
-                    waiting_for=None if reports is None else f"{reports} reports")
+    if duration is None:
+        return run_task(ctx, task, background=background, duration=None,
+                        waiting_for=None if reports is None else f"{reports} reports")
+
+    def finisher(duration_ns: int) -> ProcessGenerator:
+        # --duration S ends once instant S has run, like `sleep S`: a report due at S is printed
+        # and counts the messages arriving then
+        yield world.env.timeout(duration_ns)
+        yield end_of_instant(world)
+        yield end_of_instant(world)  # after the reporter, woken by the same end of instant
+        task.finish(0)
+
+    world.env.process(finisher(duration_to_ns(duration, "--duration")))
+    # the task ends itself at S; run_task's own limit (just after) never comes first
+    return run_task(ctx, task, background=background, duration=duration + 0.001,
+                    waiting_for=f"--duration {duration:g}")
 
 
 # -- pub ---------------------------------------------------------------------------------------------

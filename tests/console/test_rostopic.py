@@ -169,9 +169,9 @@ def test_hz_reports_once_per_simulated_second(chat: Console) -> None:
     out = chat.run("rostopic hz -n 2 /chatter")
     assert out == ("subscribed to [/chatter]\n"
                    "average rate: 10.000\n"
-                   "\tmin: 0.100s max: 0.100s std dev: 0.00000s window: 9\n"
+                   "\tmin: 0.100s max: 0.100s std dev: 0.00000s window: 10\n"
                    "average rate: 10.000\n"
-                   "\tmin: 0.100s max: 0.100s std dev: 0.00000s window: 19\n")
+                   "\tmin: 0.100s max: 0.100s std dev: 0.00000s window: 20\n")
     assert chat.world.now == 2_000_000_000
 
 
