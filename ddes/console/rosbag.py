@@ -21,6 +21,15 @@ every open recording when a script ends, on Ctrl+D, SIGINT and SIGTERM.  The
 ``rosbag reindex NAME.bag.active``; ``rosbag check`` says whether a bag is
 readable, indexed and needs no migration.
 
+``record`` and ``play`` print what the C++ programs behind rosbag_main.py
+print (``[ INFO] [t]: Subscribing to /chatter``, ``Opening x.bag``, ``Hit
+space to toggle paused, or 's' to step.``; play's status line once per pass,
+see docs/bags.md); their options are :mod:`ddes.rosbag.options`, shared with
+the ``rosbag/record`` and ``rosbag/play`` node types.  File names are
+relative to the console's directory (``ctx.resolve_path``, set by ``roscd``).
+A default recording name takes its date from ``DDES_BAG_DATE`` when the world
+has none (:func:`ddes.rosbag.recorder.default_record_date`).
+
 Options, messages and exit codes follow ``rosbag_main.py``.  Deviations:
 no progress meter (it reads the wall clock); ``compress``, ``decompress``
 and ``reindex`` exit 1 when a file failed (rosbag prints the error and
