@@ -325,9 +325,6 @@ def _record(io: _IO, argv: list[str]) -> int:
             "end the line with & to keep it recording in the background ('kill %N' stops it)")
     if opts.node:
         io.out(f"Recording from: {opts.node}")
-    if opts.exclude and not (opts.all or opts.regex):
-        io.err("Warning: Exclusion regex given, but no topics to subscribe to.")
-        io.err("Adding implicit 'record all'.")
     if not opts.topics and opts.limit > 0:
         io.err("Specifying a count is not valid with automatic topic subscription.")
         return 1

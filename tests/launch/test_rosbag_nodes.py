@@ -313,3 +313,41 @@ def test_rosrun_rosbag_play_ends_with_the_bag(tmp_path: Path) -> None:
                       " [RUNNING]  Bag Time:    100.000000   Duration: 0.000000 / 0.100000",
                       "Done."]
     assert world.trace.filter(kind="node.exit")[-1].details == {"code": 0}
+
+
+def test_exclude_alone_records_all_with_record_cpps_warning(pkg: Path, tmp_path: Path,
+                                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    runner, lines = launch(pkg, """
+        <node pkg="roscpp_tutorials" type="talker" name="talker"/>
+        <node pkg="rosbag" type="record" name="rec" args="-x /rosout.* -O out.bag"/>
+        """)
+    runner.world.run(until=1.05)
+    runner.shutdown()
+    # standard error reaches the screen without output="screen", as in roslaunch
+    assert after(lines, f"process[rec-2]: started with pid [{node_pid('/rec')}]")[:2] == [
+        "Warning: Exclusion regex given, but no topics to subscribe to.",
+        "Adding implicit 'record all'."]
+    assert sorted(Bag(str(tmp_path / "out.bag")).get_type_and_topic_info().topics) == ["/chatter"]
+
+
+def test_rosrun_rosbag_record_and_play_in_the_console(tmp_path: Path,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    from ddes.console.shell import Console
+
+    monkeypatch.chdir(tmp_path)
+    console = Console(seed=0, out=lambda _line: None)
+    console.run("rostopic pub -r 10 /chatter std_msgs/String 'data: hi' &")
+    started = console.run("rosrun rosbag record -O c.bag /chatter &")
+    assert "[ INFO] [0.000000000]: Subscribing to /chatter\n" in started
+    console.run("sleep 1.05")
+    (recorder,) = [n for n in console.world.nodes if n.startswith("/record_")]
+    console.run(f"rosnode kill {recorder}")
+    assert Bag(str(tmp_path / "c.bag")).get_message_count() == 10
+    console.run("rosrun rosbag play c.bag &")
+    played = console.run("sleep 2")
+    assert played == ("Waiting 0.2 seconds after advertising topics... done.\n\n"
+                      "Hit space to toggle paused, or 's' to step.\n"
+                      " [RUNNING]  Bag Time:      0.900000   Duration: 0.800000 / 0.900000\n"
+                      "Done.\n")
+    assert not [n for n in console.world.nodes if n.startswith("/play_")]

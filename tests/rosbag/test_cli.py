@@ -198,3 +198,57 @@ def test_record_and_play_option_errors(tmp_path: Path) -> None:
     sample_bag().save(str(tmp_path / "s.bag"))
     r = run_command_result(c, f"rosbag play --pause-topics /x -- {tmp_path / 's.bag'}")
     assert r.code == 1 and "does not model --pause-topics" in r.err
+
+
+def test_file_names_are_relative_to_the_console_directory(utc: None, tmp_path: Path,
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """roscd sets ctx.cwd: every rosbag subcommand opens and writes files from there."""
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    here = tmp_path / "here"
+    here.mkdir()
+    c = ToolContext(World(), cwd=str(here))
+    assert run_command_result(c, "rostopic pub -r 10 /chatter std_msgs/String 'data: hi' &"
+                              ).code == 0
+    assert run_command_result(c, "rosbag record -O rel /chatter --duration 1").code == 0
+    assert (here / "rel.bag").exists() and not (elsewhere / "rel.bag").exists()
+    info = run_command_result(c, "rosbag info rel.bag")
+    assert info.out.startswith("path:        rel.bag\n")  # the name as typed, as rosbag prints it
+    assert run_command_result(c, "rosbag check rel.bag").code == 0
+    assert run_command_result(c, "rosbag filter rel.bag f.bag 'True'").code == 0
+    assert Bag(str(here / "f.bag")).get_message_count() == 10
+    assert run_command_result(c, "rosbag compress f.bag").code == 0
+    assert (here / "f.orig.bag").exists()
+    assert run_command_result(c, "rosbag decompress --output-dir out f.bag").code == 1  # no dir
+    (here / "out").mkdir()
+    assert run_command_result(c, "rosbag decompress --output-dir out f.bag").code == 0
+    assert Bag(str(here / "out" / "f.bag")).get_compression_info().compression == "none"
+    assert run_command_result(c, "rosbag reindex f.bag").code == 0
+    c.world.log_output = lambda line, level: c.out(line)
+    played = run_command_result(c, "rosbag play -q rel.bag")
+    assert played.out.splitlines()[0].endswith("]: Opening rel.bag")
+    missing = run_command_result(c, "rosbag play nope.bag")
+    assert (missing.code, missing.err) == (1, "ERROR reading nope.bag: no such bag file\n")
+    assert run_command_result(c, "rosbag info nope.bag").err == \
+        "ERROR reading nope.bag: no such bag file\n"
+
+
+def test_record_prints_the_node_it_records_from(tmp_path: Path) -> None:
+    c = ToolContext(World(), cwd=str(tmp_path))
+    r = run_command_result(c, "rosbag record --node /talker -O n --duration 0.5")
+    assert r.out.startswith("Recording from: /talker\n")  # record.cpp's std::cout line
+    r = run_command_result(c, "rosbag record -x /rosout.* -O x --duration 0.5")
+    assert r.code == 2 and "You must specify a topic name or else use the '-a' option." in r.err
+
+
+def test_play_waits_for_subscribers_saying_so(bag_file: str) -> None:
+    c = ctx()
+    assert run_command_result(c, f"rosbag play --wait-for-subscribers {bag_file} &").code == 0
+    assert run_command_result(c, "sleep 1").out == (
+        "Waiting 0.2 seconds after advertising topics... done.\n\n"
+        "Hit space to toggle paused, or 's' to step.\n"
+        "Waiting for subscribers.\n")  # player.cpp's waitForSubscribers()
+    assert run_command_result(c, "rostopic echo /s &").code == 0
+    echoed = run_command_result(c, "rostopic echo -n 1 /n")  # now both topics have one
+    assert echoed.out == "Finished waiting for subscribers.\ndata: 0\n---\n"
