@@ -26,7 +26,9 @@ service connection — never overlap: roscpp's subscription queues and
 rospy's per-subscription lock both serialise them.
 
 An owner is any object with a boolean attribute ``cb_active``, which the
-runner sets while one of its callbacks runs.
+runner sets while one of its callbacks runs.  An owner with a
+``callback_failed()`` method is told when one of its callbacks raised, before
+the failure is reported (a rospy Timer stops then: its thread died).
 """
 
 from __future__ import annotations
@@ -64,6 +66,13 @@ class CallbackOwner(Protocol):
     """An entity whose callbacks run one at a time (a subscription, a timer...)."""
 
     cb_active: bool
+
+
+def _tell_owner(owner: CallbackOwner | None) -> None:
+    """Tell ``owner`` (if it wants to know) that its callback raised."""
+    failed = getattr(owner, "callback_failed", None)
+    if failed is not None:
+        failed()
 
 
 def parse_policy(policy: SpinnerPolicy) -> tuple[int, bool]:
@@ -139,7 +148,7 @@ class CallbackQueue:
         try:
             result = fn(*args)
         except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
-            self._failed(fn, exc, on_done)
+            self._failed(fn, exc, on_done, owner)
             return
         if result is not None and type(result) is GeneratorType:
             self._adopt(fn, result, owner, on_done)
@@ -159,14 +168,16 @@ class CallbackQueue:
         try:
             result = fn(arg)
         except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
-            self._failed(fn, exc, on_done)
+            self._failed(fn, exc, on_done, owner)
             return False
         if result is not None and type(result) is GeneratorType:
             self._adopt(fn, result, owner, on_done)
             return False
         return True
 
-    def _failed(self, fn: Callback, exc: Exception, on_done: Callable[[], object] | None) -> None:
+    def _failed(self, fn: Callback, exc: Exception, on_done: Callable[[], object] | None,
+                owner: CallbackOwner | None) -> None:
+        _tell_owner(owner)
         if on_done is not None:
             on_done()
         self.report_error(fn, exc)
@@ -180,13 +191,15 @@ class CallbackQueue:
             self.free = False
         if owner is not None:
             owner.cb_active = True
-        proc = self._env.process(self._run_generator(fn, gen))
+        proc = self._env.process(self._run_generator(fn, gen, owner))
         proc.callbacks.append(lambda _p: self._finished(owner, on_done))
 
-    def _run_generator(self, fn: Callback, gen: ProcessGenerator) -> ProcessGenerator:
+    def _run_generator(self, fn: Callback, gen: ProcessGenerator,
+                       owner: CallbackOwner | None = None) -> ProcessGenerator:
         try:
             return (yield from gen)
         except Exception as exc:  # noqa: BLE001
+            _tell_owner(owner)
             self.report_error(fn, exc)
             return None
 
@@ -224,16 +237,17 @@ class CallbackQueue:
         for _ in range(n):
             if not self._q or self.closed:
                 break
-            fn, args, _owner, on_done = self._q.popleft()
+            fn, args, owner, on_done = self._q.popleft()
             try:
                 result = fn(*args)
             except Exception as exc:  # noqa: BLE001
+                _tell_owner(owner)
                 if on_done is not None:
                     on_done()
                 self.report_error(fn, exc)
                 continue
             if type(result) is GeneratorType:
-                yield self._env.process(self._run_generator(fn, result))
+                yield self._env.process(self._run_generator(fn, result, owner))
             if on_done is not None:
                 on_done()
             done += 1

@@ -39,7 +39,7 @@ from ddes.graph.callbacks import CallbackQueue, SpinnerPolicy
 from ddes.graph.failures import NODE_OF_PROCESS
 from ddes.graph.names import NameResolver, anonymous_name, is_legal_base_name, parse_node_args
 from ddes.graph.rosout import DEBUG, ERROR, FATAL, INFO, WARN, NodeLogger
-from ddes.graph.timer import Timer, TimerEvent
+from ddes.graph.timer import RoscppTimer, Timer, TimerEvent
 from ddes.time.clock import Clock, SimClock
 from ddes.time.rate import Rate, RoscppRate, WallRate
 from ddes.time.rostime import Time, WallTime
@@ -142,6 +142,9 @@ class Node:
         remaps.update(args.remappings)
         self._resolver = NameResolver(base, args.ns or namespace, remaps)
         self.world = world
+        #: The client library the node behaves as, ``"rospy"`` or ``"roscpp"`` (its
+        #: ``log_style``): publishers count ``header.seq`` as that library does.
+        self.client_library: str = "roscpp" if log_style == "roscpp" else "rospy"
         #: The node's fully-qualified name (its caller id).
         self.name: str = self._resolver.name
         #: The command line without ROS arguments (rospy.myargv).
@@ -154,6 +157,8 @@ class Node:
         self._entities: list[Entity] = []
         self._published: list[Publisher[MessageClass]] = []
         self._subscribed: list[Subscriber[MessageClass]] = []
+        #: rospy's per-topic publisher sequence counters (``_PublisherImpl.seq``), by topic.
+        self._pub_seq: dict[str, list[int]] = {}
         self._shutdown = False
         self._shutdown_hooks: list[Callable[[str], object]] = []
         self._shutdown_event: simpy.Event | None = None
@@ -225,6 +230,30 @@ class Node:
             hook(reason)
         if self._shutdown_event is not None and not self._shutdown_event.triggered:
             self._shutdown_event.succeed(reason)
+
+    def shutdown_request(self, caller_id: str, msg: str = "") -> None:
+        """The slave API's ``shutdown(caller_id, msg)``: what rosmaster and ``rosnode kill`` call.
+
+        A rospy node prints ``shutdown request: <msg>`` (rospy's
+        ``ROSHandler.shutdown``) and shuts down with the reason ``external
+        shutdown request from [<caller_id>]: [<msg>]``, which its
+        ``on_shutdown`` hooks receive; a roscpp node logs ``Shutdown request
+        received.`` and ``Reason given for shutdown: [<msg>]`` at WARN
+        (roscpp's ``shutdownCallback``).  The printed rospy line goes to the
+        world's ``log_output``, like log lines, after the node has shut down
+        (rospy prints it before its shutdown hooks run).
+        """
+        if self._shutdown:
+            return
+        if self.client_library == "roscpp":
+            self.logwarn("Shutdown request received.")
+            self.logwarn("Reason given for shutdown: [%s]", msg)
+            self.shutdown(msg)
+            return
+        self.shutdown(f"external shutdown request from [{caller_id}]: [{msg}]")
+        out = self.world.log_output
+        if out is not None:  # printed last, so the trace's latest event is this node's
+            out(f"shutdown request: {msg}" if msg else "shutdown requst", INFO)  # rospy's typo
 
     def spin(self) -> simpy.Event:
         """Event that fires when the node shuts down (``yield node.spin()``)."""
@@ -442,8 +471,17 @@ class Node:
         oneshot: bool = False,
         reset: bool = False,
     ) -> Timer:
-        """A periodic or one-shot :class:`~ddes.graph.timer.Timer`."""
+        """A periodic or one-shot :class:`~ddes.graph.timer.Timer` (rospy's schedule)."""
         return Timer(self, period, callback, oneshot, reset)
+
+    def create_roscpp_timer(
+        self,
+        period: DurationLike,
+        callback: Callable[[TimerEvent], object],
+        oneshot: bool = False,
+    ) -> RoscppTimer:
+        """roscpp's ``ros::Timer`` (:class:`~ddes.graph.timer.RoscppTimer`, roscpp's schedule)."""
+        return RoscppTimer(self, period, callback, oneshot)
 
     def __repr__(self) -> str:
         state = "shutdown" if self._shutdown else "running"

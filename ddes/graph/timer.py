@@ -6,13 +6,29 @@ The callback receives a :class:`TimerEvent` shaped like rospy's
 ``last_duration`` is the *simulated* time, in float seconds, that the
 previous callback took: a callback may be a generator that yields events.
 
-Scheduling follows roscpp's ``TimerManager::updateNext``: after each
-callback, ``next += period`` if it was due, and if ``next + period < now``
-(the callback was slow or time jumped forward) ``next = now``, skipping the
-missed fires.  A backwards jump of a simulated clock restarts the timer at
-``now + period`` (roscpp, and rospy since ros_comm#2257), so timers survive
-``rosbag play --loop --clock``.  Callbacks run through the node's callback
-runner (:mod:`ddes.graph.callbacks`), like every other callback: on a
+:class:`Timer` (``ddes.Timer``, ``node.create_timer``) is rospy's
+``rospy.Timer.run`` loop, step for step (``rospy/timer.py``):
+
+* at creation ``current_expected = now + period`` and a ``Rate`` of
+  ``1.0 / period.to_sec()`` Hz starts, whose period is
+  ``Duration(0, int(1e9 / hz))`` (so a 0.3 s timer sleeps 299,999,999 ns);
+* each turn ``rate.sleep()`` sleeps what is left of the Rate's period,
+  advances its ``last_time`` by one period, and drops the backlog
+  (``last_time = now``) when it was more than two periods behind; then the
+  callback runs with ``current_real = now``; afterwards ``last_expected,
+  last_real = current_expected, current_real`` and ``current_expected +=
+  period`` — never re-aligned to the clock.  A callback slower than the
+  period, or a forward jump of ``/clock``, makes the next fires come at once
+  until the Rate has dropped its backlog.
+* Under simulated time a timer created before the first ``/clock`` reads
+  time 0: ``current_expected`` counts from 0, and the first sleep starts at
+  the first ``/clock`` (rospy.sleep waits for a non-zero time).
+* A backwards jump below the start of a sleep ends the sleep and the
+  callback runs at once (``reset=True``; see docs/time.md for ``reset=False``).
+
+:class:`RoscppTimer` (``node.create_roscpp_timer``) is roscpp's
+``TimerManager``.  Callbacks of both run through the node's callback runner
+(:mod:`ddes.graph.callbacks`), like every other callback: on a
 single-threaded node a generator timer callback holds the spinner.
 """
 
@@ -27,12 +43,13 @@ from ddes.time.rostime import Duration, Time
 from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
+    import simpy
     from simpy import Timeout
 
     from ddes.graph.node import Node
     from ddes.kernel.events import Posted
 
-__all__ = ["Timer", "TimerEvent"]
+__all__ = ["RoscppTimer", "Timer", "TimerEvent", "rospy_timer_sleep_ns"]
 
 _NS = 1_000_000_000
 _FIRE_KEYS = ("expected", "real")
@@ -42,6 +59,17 @@ def _new_time(ns: int) -> Time:
     t = Time.__new__(Time)
     t.secs, t.nsecs = divmod(ns, _NS)
     return t
+
+
+def rospy_timer_sleep_ns(period_ns: int) -> int:
+    """The period of the Rate inside a rospy Timer: ``int(1e9 / (1.0 / period.to_sec()))``.
+
+    genpy's ``to_sec`` is ``float(secs) + float(nsecs) / 1e9``; the float
+    round trip loses a nanosecond for periods like 0.3 s.  At least 1 ns.
+    """
+    secs, nsecs = divmod(period_ns, _NS)
+    hz = 1.0 / (float(secs) + float(nsecs) / 1e9)
+    return max(int(1e9 / hz), 1)
 
 
 class TimerEvent:
@@ -100,13 +128,235 @@ def _ns_or_none(t: Time | int | None) -> int | None:
     return t.to_nsec()
 
 
-class Timer:
-    """A periodic (or one-shot) timer owned by a node.
 
-    ``Timer(node, period, callback, oneshot=False, reset=False)`` mirrors
-    ``rospy.Timer``; ``node.create_timer(...)`` is the same.  ``reset`` is
-    accepted for rospy compatibility: ddes timers always survive backwards
-    jumps.
+class Timer:
+    """rospy's ``Timer``: ``ddes.Timer(node, period, callback, oneshot=False, reset=False)``.
+
+    ``node.create_timer(...)`` is the same.  The schedule is rospy's (see the
+    module docstring); ``reset`` is accepted for rospy compatibility: a ddes
+    timer always survives a backwards jump as rospy's does with ``reset=True``.
+    """
+
+    def __init__(
+        self,
+        node: Node,
+        period: DurationLike,
+        callback: Callable[[TimerEvent], object],
+        oneshot: bool = False,
+        reset: bool = False,
+    ) -> None:
+        period_ns = duration_to_ns(period, "timer period")
+        if period_ns <= 0:
+            raise DdesValueError(f"timer period must be > 0, got {period!r}")
+        if not callable(callback):
+            raise DdesValueError(f"timer callback must be callable, got {callback!r}")
+        node.check_alive("create a timer")
+        self._node = node
+        self._cbq = node.callbacks
+        #: True while the callback runs (the node's runner sets it).
+        self.cb_active = False
+        clock = self._clock = node.clock
+        self._env = node.world.env
+        self._period = period_ns
+        #: The period of rospy's Rate inside the timer (see rospy_timer_sleep_ns).
+        self._sleep_dur = rospy_timer_sleep_ns(period_ns)
+        self._callback = callback
+        self._oneshot = oneshot
+        self._reset = reset
+        self._alive = True
+        self._kernel = not clock.is_sim
+        self._fire_cb = self._fire
+        self._armed: Posted[None] | None = None
+        self._trace = node.world.trace
+        self._source = node.name
+        now = clock.now_ns()
+        #: rospy's ``Rate.last_time`` (ns).
+        self._last_time = now
+        self._ce = now + period_ns
+        self._le: int | None = None
+        self._lr: int | None = None
+        self._ld: float | None = None
+        self._started = 0
+        #: Number of times the callback was started.
+        self.fires = 0
+        node.add_entity(self)
+        if self._kernel:
+            self._sleep(now)
+        else:
+            self._sim_sleep()
+
+    @property
+    def period(self) -> Duration:
+        return Duration._from_ns(self._period)
+
+    # -- rate.sleep() on the kernel clock (the common, fast case) ---------------------------
+    def _sleep(self, now: int) -> None:
+        """rospy ``Rate.sleep`` from ``now``: arm the wake-up, advance ``last_time``.
+
+        (The kernel clock never goes back, so ``last_time <= now`` here: rospy's
+        "time moved backwards" clamp is left out.)
+        """
+        sd = self._sleep_dur
+        lt = self._last_time
+        remaining = sd - (now - lt)
+        lt += sd
+        if now - lt > 2 * sd:
+            lt = now
+        self._last_time = lt
+        self._armed = post(self._env, remaining if remaining > 0 else 0, None, self._fire_cb)
+
+    def _fire(self, ev: Posted[None]) -> None:
+        """Kernel-clock wake-up: the callback's turn (built inline, run by the node's runner)."""
+        if ev is not self._armed or not self._alive:
+            return
+        self._armed = None
+        cbq = self._cbq
+        if not (cbq.free and not self.cb_active):
+            cbq.enqueue(self._run, (), self, self._done)
+            return
+        now = ev.at_ns
+        ce = self._ce
+        self._started = now
+        event = TimerEvent.__new__(TimerEvent)
+        event._le = self._le
+        event._lr = self._lr
+        event._ce = ce
+        event._cr = now
+        event.last_duration = self._ld
+        self.fires += 1
+        self._trace.append_row((now, "timer.fire", self._source, _FIRE_KEYS, ce, now))
+        if not cbq.run1(self._callback, event, self, self._done):
+            return  # it failed (on_done ran) or goes on as a generator (on_done at its end)
+        # Finished at once: _done without the call.
+        if self._oneshot or not self._alive:
+            self._done()
+            return
+        self._ld = 0.0
+        self._le = ce
+        self._lr = now
+        self._ce = ce + self._period
+        sd = self._sleep_dur  # _sleep(now), inline
+        lt = self._last_time
+        remaining = sd - (now - lt)
+        lt += sd
+        if now - lt > 2 * sd:
+            lt = now
+        self._last_time = lt
+        self._armed = post(self._env, remaining if remaining > 0 else 0, None, self._fire_cb)
+
+    # -- rate.sleep() on a simulated clock ----------------------------------------------------
+    def _sim_sleep(self) -> None:
+        """rospy ``Rate.sleep`` → ``rospy.sleep(remaining)`` under simulated time."""
+        clock = self._clock
+        curr = clock.now_ns()
+        if self._last_time > curr:
+            self._last_time = curr
+        remaining = self._sleep_dur - (curr - self._last_time)
+        if curr == 0:  # rospy.sleep waits for a non-zero time first
+            clock.wait_valid().callbacks.append(lambda _e: self._sim_wait(curr, remaining))
+        else:
+            self._sim_wait(curr, remaining)
+
+    def _sim_wait(self, curr: int, remaining: int) -> None:
+        if not self._alive:
+            return
+        clock = self._clock
+        start = clock.now_ns()
+        target = start + remaining
+        if start >= target:  # nothing left to sleep: wake in this instant
+            post(self._env, 0, None, lambda _e: self._sim_woke(curr, True))
+            return
+        ev = clock.wait_until(target, start)
+        ev.callbacks.append(lambda e: self._sim_woke(curr, e))
+
+    def _sim_woke(self, curr: int, ev: simpy.Event | bool) -> None:
+        slept = True
+        if ev is not True and not ev.ok:  # type: ignore[union-attr]
+            ev.defused = True  # type: ignore[union-attr]  # time moved back below the start
+            slept = False
+        if not self._alive:
+            return
+        if slept:
+            lt = self._last_time + self._sleep_dur
+            self._last_time = curr if curr - lt > 2 * self._sleep_dur else lt
+        else:  # rospy Rate(reset=True): restart from now, and the callback runs at once
+            self._last_time = self._clock.now_ns()
+        cbq = self._cbq
+        if not (cbq.free and not self.cb_active):
+            cbq.enqueue(self._run, (), self, self._done)
+            return
+        now = self._clock.now_ns()
+        ce = self._ce
+        self._started = now
+        event = TimerEvent.__new__(TimerEvent)
+        event._le = self._le
+        event._lr = self._lr
+        event._ce = ce
+        event._cr = now
+        event.last_duration = self._ld
+        self.fires += 1
+        self._trace.append_row((self._env.now_ns, "timer.fire", self._source, _FIRE_KEYS, ce, now))
+        if cbq.run1(self._callback, event, self, self._done):
+            self._done()
+
+    # -- the callback -------------------------------------------------------------------------
+    def _run(self) -> object:
+        """The callback's turn: build the TimerEvent, record, call (through the node's runner)."""
+        now = self._clock.now_ns()
+        ce = self._ce
+        self._started = now
+        event = TimerEvent.__new__(TimerEvent)
+        event._le = self._le
+        event._lr = self._lr
+        event._ce = ce
+        event._cr = now
+        event.last_duration = self._ld
+        self.fires += 1
+        self._trace.append_row((self._env.now_ns, "timer.fire", self._source, _FIRE_KEYS, ce, now))
+        return self._callback(event)
+
+    def _done(self) -> None:
+        """After the callback: rospy's bookkeeping, then the next ``rate.sleep()``."""
+        if self._oneshot:
+            self.shutdown()
+            return
+        if not self._alive:
+            return
+        now = self._env.now_ns if self._kernel else self._clock.now_ns()
+        started = self._started
+        self._ld = (now - started) / 1e9
+        self._le = self._ce
+        self._lr = started
+        self._ce += self._period
+        if self._kernel:
+            self._sleep(now)
+        else:
+            self._sim_sleep()
+
+    def callback_failed(self) -> None:
+        """The callback raised: the timer stops, as the exception ends rospy's timer thread."""
+        self.shutdown()
+
+    def shutdown(self) -> None:
+        """Stop the timer; a callback already running finishes."""
+        if self._alive:
+            self._alive = False
+            self._armed = None
+            self._node.remove_entity(self)
+
+    def is_alive(self) -> bool:
+        """True until :meth:`shutdown` (or the one fire of a one-shot timer)."""
+        return self._alive
+
+
+class RoscppTimer:
+    """roscpp's ``ros::Timer``: ``node.create_roscpp_timer(period, callback, oneshot=False)``.
+
+    Scheduling follows roscpp's ``TimerManager::updateNext``: after each
+    callback, ``next += period`` if it was due, and if ``next + period < now``
+    (the callback was slow or time jumped forward) ``next = now``, skipping
+    the missed fires.  A backwards jump of a simulated clock restarts the
+    timer at ``now + period``.  ``reset`` is accepted and ignored.
     """
 
     def __init__(

@@ -3,7 +3,8 @@
 How a message travels (each hop one function, each leaving one trace event):
 
 1. ``Publisher.publish`` builds the message from its arguments (rospy's
-   rules), sets ``header.seq`` as rospy does, and **serializes it once**
+   rules), sets ``header.seq`` as rospy does (only when a subscriber is
+   connected; see :meth:`Publisher.publish`), and **serializes it once**
    (``topic.publish``).  The bytes are the snapshot: mutating the message
    afterwards changes nothing delivered or recorded, and a field of the
    wrong type fails here with ``ROSSerializationException``, as in ROS.
@@ -25,6 +26,7 @@ latched publisher sends its last message on every new connection.
 from __future__ import annotations
 
 import random
+import struct
 from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Generic, TypedDict, TypeVar
@@ -161,7 +163,7 @@ class Connection:
         self._rng: random.Random | None = None
         self._last = 0
         self._sent = self.lost = self.received = self.dropped = self.delivered = 0
-        self._seq0 = pub.seq  # batched sends are counted from the publisher's seq
+        self._seq0 = pub.published  # batched sends: the publishes since the connection opened
         self.closed = False
         #: Fixed latency, no loss, never re-linked: arrivals can share one
         #: kernel event per publish (FIFO holds trivially).
@@ -182,13 +184,13 @@ class Connection:
     def sent(self) -> int:
         """Messages the publisher sent on this connection."""
         if self.batchable and not self.closed:
-            return self._sent + self.pub.seq - self._seq0
+            return self._sent + self.pub.published - self._seq0
         return self._sent
 
     def set_link(self, link: LinkModel) -> None:
         """Change the transport model (applies to messages sent from now on)."""
         if self.batchable:
-            self._sent += self.pub.seq - self._seq0
+            self._sent += self.pub.published - self._seq0
             self.batchable = False  # messages may be in flight: keep FIFO per message
             self.pub._rebuild_fanout()
         if callable(link.latency):
@@ -266,9 +268,16 @@ class Publisher(Generic[_C_co]):
         self.latch = bool(latch)
         self.queue_size = queue_size
         self.headers = dict(headers or {})
-        self.seq = 0
+        #: Messages published by this object (every ``publish()`` call).
+        self.published = 0
+        # rospy's _PublisherImpl.seq: one counter per node and topic, shared by every
+        # Publisher of that topic in the node, counting messages actually sent.
+        self._seqbox: list[int] = node._pub_seq.setdefault(self.resolved_name, [0])
         self.connections: list[Connection] = []
         self._latched: bytes | None = None
+        self._latched_seq = 0
+        #: header.seq counted as roscpp counts it (a node with client_library "roscpp").
+        self._roscpp = node.client_library == "roscpp"
         self._closed = False
         self._fanout: list[tuple[int, list[Connection]]] = []
         self._single: list[Connection] = []
@@ -287,24 +296,55 @@ class Publisher(Generic[_C_co]):
         self.world.record("topic.advertise", node.name, topic=self.resolved_name, type=self.type,
                           latch=self.latch)
 
+    @property
+    def seq(self) -> int:
+        """rospy's ``seq``: messages sent on this topic by this node (the last ``header.seq``).
+
+        Shared by every Publisher of the topic in the node; a publish with no
+        subscriber connected does not count (rospy's ``_PublisherImpl.publish``).
+        """
+        return self._seqbox[0]
+
     def publish(self, *args: Any, **kwds: Any) -> None:
-        """Publish a message instance, or the field values of a new one."""
+        """Publish a message instance, or the field values of a new one.
+
+        ``header.seq`` is counted as the node's client library counts it
+        (:attr:`Node.client_library`), by one counter per topic and node:
+
+        * rospy (``_PublisherImpl.publish``): with no subscriber connected the
+          message goes nowhere, the counter stays and ``header.seq`` is left
+          as it is; otherwise the counter counts up and overwrites
+          ``header.seq`` of the message object.
+        * roscpp (``TopicManager::publish``): every publish counts, and the
+          count is written into the sent bytes, not into the message object.
+
+        ddes serializes the message in every case, so a bad field raises at
+        once (rospy serializes only for a connected subscriber).
+        """
         if self._closed:
             raise ROSException("publish() to an unregistered() handle")
         if len(args) == 1 and not kwds and type(args[0]) is self.data_class:
             msg: Any = args[0]  # a data_class instance: a Message, with a header if _has_header
         else:
             msg = args_kwds_to_message(self.data_class, args, kwds)
-        self.seq += 1
-        seq = self.seq
-        if self._has_header:
-            msg.header.seq = seq
+        self.published += 1
+        roscpp = self._roscpp
+        if self._nconn or roscpp:
+            box = self._seqbox
+            seq = box[0] = box[0] + 1
+            if self._has_header and not roscpp:
+                msg.header.seq = seq
+        else:
+            seq = 0  # not sent: rospy returns before counting
         try:
             data = msg._serialize_to_bytes()
         except Exception:  # noqa: BLE001 - re-done with the checks that name the bad field
             data = _serialize_checked(msg)
+        if roscpp and self._has_header:
+            data = _with_seq(data, seq)
         if self.latch:
             self._latched = data
+            self._latched_seq = seq
         env = self._env
         self._trace.append_row((env.now_ns, "topic.publish", self._node_name, _PUB_KEYS,
                                 self.resolved_name, seq, self._nconn, data))
@@ -341,6 +381,9 @@ class Publisher(Generic[_C_co]):
         self.node.remove_entity(self)
         if self in self.node._published:
             self.node._published.remove(self)
+        if not any(p.resolved_name == self.resolved_name for p in self.node._published):
+            # rospy releases the topic's impl with its last Publisher: the count restarts
+            self.node._pub_seq.pop(self.resolved_name, None)
         self.world.record("topic.unadvertise", self.node.name, topic=self.resolved_name)
 
     shutdown = unregister
@@ -500,9 +543,20 @@ def connect_later(world: World, pub: Publisher[MessageClass], sub: Subscriber[Me
         world.record("topic.connect", sub.node.name, topic=pub.resolved_name,
                      publisher=pub.node.name, connection=conn.id)
         if pub.latch and pub._latched is not None:
-            conn.send(pub._latched, pub.seq)
+            if pub._roscpp:  # roscpp sends the latched bytes as they were
+                conn.send(pub._latched, pub._latched_seq)
+            else:  # rospy publishes the latched message again on the connection: a new seq
+                box = pub._seqbox
+                seq = box[0] = box[0] + 1
+                conn.send(_with_seq(pub._latched, seq) if pub._has_header else pub._latched,
+                          seq)
 
     post(world.env, delay_ns, None, connect)
+
+
+def _with_seq(data: bytes, seq: int) -> bytes:
+    """``data`` of a message with a header, its ``header.seq`` (the first 4 bytes) set to ``seq``."""
+    return struct.pack("<I", seq & 0xFFFFFFFF) + data[4:]
 
 
 def disconnect(conn: Connection) -> None:
@@ -510,7 +564,7 @@ def disconnect(conn: Connection) -> None:
     if conn.closed:
         return
     if conn.batchable:
-        conn._sent += conn.pub.seq - conn._seq0
+        conn._sent += conn.pub.published - conn._seq0
         conn.batchable = False
     conn.closed = True
     if conn in conn.pub.connections:

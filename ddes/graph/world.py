@@ -249,7 +249,7 @@ class World(Kernel):
              "sent": c.sent, "lost": c.lost, "received": c.received, "dropped": c.dropped,
              "delivered": c.delivered} for c in conns]
         return {"topic": topic, "type": entry.type,
-                "published": sum(p.seq for p in entry.publishers),
+                "published": sum(p.published for p in entry.publishers),
                 "sent": sum(c["sent"] for c in per), "lost": sum(c["lost"] for c in per),
                 "received": sum(c["received"] for c in per),
                 "dropped": sum(c["dropped"] for c in per),
@@ -275,10 +275,17 @@ class World(Kernel):
         return self._nodes.get(name)
 
     def register_node(self, node: Node) -> None:
-        """Add a node to the world; a live node of the same name is shut down (as the master does)."""
+        """Add a node to the world; a live node of the same name is shut down, as rosmaster does.
+
+        rosmaster (``Registrations._register_node_api``) calls the old node's
+        ``shutdown("/master", "[<name>] Reason: new node registered with same
+        name")``: a rospy node prints ``shutdown request: [<name>] Reason: new
+        node registered with same name`` and its shutdown hooks get ``external
+        shutdown request from [/master]: [...]`` (see :meth:`Node.shutdown_request`).
+        """
         old = self._nodes.get(node.name)
         if old is not None:
-            old.shutdown("new node registered with same name")
+            old.shutdown_request("/master", f"[{node.name}] Reason: new node registered with same name")
         self._nodes[node.name] = node
 
     def unregister_node(self, node: Node) -> None:

@@ -98,7 +98,8 @@ def test_second_node_with_same_name_shuts_down_first(world: ddes.World) -> None:
     assert first.is_shutdown() and not second.is_shutdown()
     assert world.nodes["/talker"] is second
     ev = world.trace.filter(kind="node.shutdown")[0]
-    assert ev.details["reason"] == "new node registered with same name"
+    assert ev.details["reason"] == ("external shutdown request from [/master]: "
+                                    "[[/talker] Reason: new node registered with same name]")
 
 
 def test_trace_records_and_digests(world: ddes.World) -> None:
