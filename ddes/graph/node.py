@@ -34,10 +34,16 @@ from typing import TYPE_CHECKING, Any, Protocol, TypedDict, TypeVar
 
 import simpy
 
-from ddes.errors import DdesTypeError, DdesValueError, NodeShutdownError
+from ddes.errors import DdesTypeError, DdesValueError, NodeShutdownError, ROSParamException
 from ddes.graph.callbacks import CallbackQueue, SpinnerPolicy
 from ddes.graph.failures import NODE_OF_PROCESS
-from ddes.graph.names import NameResolver, anonymous_name, is_legal_base_name, parse_node_args
+from ddes.graph.names import (
+    NameResolver,
+    anonymous_name,
+    is_legal_base_name,
+    is_private,
+    parse_node_args,
+)
 from ddes.graph.rosout import DEBUG, ERROR, FATAL, INFO, WARN, NodeLogger
 from ddes.graph.timer import RoscppTimer, Timer, TimerEvent
 from ddes.time.clock import Clock, SimClock
@@ -368,8 +374,24 @@ class Node:
         self.world.master.params.delete_param(self.resolve_name(name))
 
     def search_param(self, name: str) -> str | None:
-        """rospy.search_param: the closest key up the namespace tree, or None."""
-        return self.world.master.params.search_param(self.name, self._resolver.search_key(name))
+        """rospy.search_param: the closest key up the namespace tree, or None.
+
+        As rospy and rosmaster: ``""`` finds nothing (the master's
+        ``searchParam`` refuses an empty key, rospy returns None); a private
+        ``~key`` raises ROSException ("cannot search for parameter: Internal
+        failure: invalid key"); a global key is returned if it is set.
+        """
+        key = self._resolver.search_key(name)
+        if not key:
+            return None
+        if is_private(key):
+            raise ROSParamException(
+                f"cannot search for parameter: Internal failure: invalid key ({key!r} is private: "
+                f"search_param looks a relative name up from the node's namespace upwards, e.g. "
+                f"search_param({key[1:].lstrip('/') or 'name'!r}); read the node's own with "
+                f"get_param({key!r}))"
+            )
+        return self.world.master.params.search_param(self.name, key)
 
     def get_param_names(self) -> list[str]:
         """rospy.get_param_names."""
