@@ -18,13 +18,15 @@ ROS install never changes a simulation.
 from __future__ import annotations
 
 import os
+import stat
 from collections.abc import Iterable, Mapping
 from pathlib import Path
+from xml.parsers import expat
 
-from ddes.errors import DdesError
+from ddes.errors import DdesError, ResourceLimitError
 
-__all__ = ["BUNDLED_PATH", "PACKAGE_PATH_VAR", "PackageNotFound", "RosPack", "env_package_path",
-           "is_package"]
+__all__ = ["BUNDLED_PATH", "DEPEND_TAGS", "MAX_MANIFEST_BYTES", "PACKAGE_PATH_VAR",
+           "InvalidManifest", "PackageNotFound", "RosPack", "env_package_path", "is_package"]
 
 #: Folder of the packages that ship with ddes.
 BUNDLED_PATH = Path(__file__).resolve().parent / "packages"
@@ -34,9 +36,26 @@ PACKAGE_PATH_VAR = "DDES_PACKAGE_PATH"
 
 _MARKERS = ("package.xml", "msg", "srv", "action")
 
+#: The ``package.xml`` elements rospack reads run-time dependencies from, in its order.
+DEPEND_TAGS = ("run_depend", "exec_depend", "depend")
+
+#: The largest ``package.xml`` ddes reads (a real one is a few KiB).
+MAX_MANIFEST_BYTES = 1 << 20
+
 
 class PackageNotFound(DdesError):
     """No package of that name on the package path (rospkg.ResourceNotFound)."""
+
+
+class InvalidManifest(DdesError):
+    """A ``package.xml`` that cannot be read: malformed XML, or a package depending on itself.
+
+    ``rospack_text`` is what rospack prints for the problem (after ``[rospack] Error: ``).
+    """
+
+    def __init__(self, message: str, rospack_text: str | None = None) -> None:
+        super().__init__(message)
+        self.rospack_text = rospack_text or message
 
 
 def env_package_path(environ: Mapping[str, str]) -> list[Path]:
@@ -105,6 +124,21 @@ class RosPack:
         """Forget the cached index (after adding packages on disk)."""
         self._index = None
 
+    def depends1(self, name: str) -> list[str]:
+        """The direct dependencies of package ``name`` (``rospack depends1``), in rospack's order.
+
+        The names of the ``<run_depend>``, then ``<exec_depend>``, then
+        ``<depend>`` children of its ``package.xml`` (whitespace stripped,
+        each name once); a package without ``package.xml`` (a folder of
+        definitions) has none.  Names that are not on the path are kept:
+        the caller decides (rospack skips those rosdep knows as system
+        packages).  :class:`PackageNotFound` for an unknown ``name``,
+        :class:`InvalidManifest` for a malformed file or a package that
+        depends on itself, :class:`~ddes.errors.ResourceLimitError` for a
+        ``package.xml`` over :data:`MAX_MANIFEST_BYTES`.
+        """
+        return _declared_depends(self.get_path(name) / "package.xml", name)
+
     def list(self) -> list[str]:
         """Names of all packages on the path, sorted."""
         if self._index is None:
@@ -129,3 +163,77 @@ class RosPack:
         if self._index is None:
             self._index = self._scan()
         return name in self._index
+
+
+def _declared_depends(manifest: Path, name: str) -> list[str]:
+    """The run-time dependencies ``manifest`` (package ``name``'s package.xml) declares."""
+    if not manifest.is_file():
+        return []
+    found: dict[str, list[str]] = {tag: [] for tag in DEPEND_TAGS}
+    for tag, text in _top_level_texts(manifest, name):
+        if tag in found:
+            found[tag].append(text.strip())
+    names: list[str] = []
+    for tag in DEPEND_TAGS:
+        for dep in found[tag]:
+            if dep == name:
+                raise InvalidManifest(
+                    f"package '{name}' depends on itself ({manifest}: <{tag}>{dep}</{tag}>); "
+                    "remove that element", f"package '{name}' depends on itself")
+            if dep and dep not in names:
+                names.append(dep)
+    return names
+
+
+def _top_level_texts(manifest: Path, name: str) -> list[tuple[str, str]]:
+    """``(tag, text)`` of each child of the root element of ``manifest`` (a package.xml)."""
+    where = f"manifest of package {name} at {manifest}"
+    try:
+        st = manifest.stat()
+    except OSError as exc:
+        raise InvalidManifest(f"cannot read the {where}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise InvalidManifest(f"the {where} is not a regular file")
+    if st.st_size > MAX_MANIFEST_BYTES:
+        raise ResourceLimitError(
+            f"the {where} has {st.st_size} bytes, more than {MAX_MANIFEST_BYTES} (the most ddes "
+            "reads of a package.xml); a package.xml lists a package's metadata only")
+    with open(manifest, "rb") as f:
+        data = f.read(MAX_MANIFEST_BYTES + 1)
+    if len(data) > MAX_MANIFEST_BYTES:
+        raise ResourceLimitError(f"the {where} grew past {MAX_MANIFEST_BYTES} bytes while read")
+    parser = expat.ParserCreate()
+    depth = [0]
+    children: list[tuple[str, str]] = []
+    text: list[str] = []
+
+    def doctype(doc: str, *_: object) -> None:
+        raise InvalidManifest(f"error parsing {where}: <!DOCTYPE {doc}> is not allowed (ddes "
+                              "refuses DTDs and entities); remove it", f"error parsing {where}")
+
+    def start(tag: str, _attrs: object) -> None:
+        depth[0] += 1
+        if depth[0] == 2:
+            children.append((tag, ""))
+            text.clear()
+
+    def end(tag: str) -> None:
+        if depth[0] == 2:
+            children[-1] = (tag, "".join(text))
+        depth[0] -= 1
+
+    def chars(data: str) -> None:
+        if depth[0] == 2:
+            text.append(data)
+
+    parser.StartDoctypeDeclHandler = doctype
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
+    parser.CharacterDataHandler = chars
+    try:
+        parser.Parse(data, True)
+    except expat.ExpatError as exc:
+        raise InvalidManifest(
+            f"error parsing {where}: {expat.ErrorString(exc.code)} (line {exc.lineno}, column "
+            f"{exc.offset}); fix the XML", f"error parsing {where}") from None
+    return children

@@ -1,4 +1,4 @@
-"""``ddes rosmsg`` and ``ddes rossrv``: the ROS 1 tools for message and service types.
+"""``rosmsg`` and ``rossrv``: the ROS 1 tools for message and service types.
 
 Subcommands and output follow ``rosmsg``/``rossrv`` (ros_comm
 ``tools/rosmsg``): ``show`` (alias ``info``; ``-r/--raw`` for the file text),
@@ -8,9 +8,17 @@ nested types expanded below their field and indented two spaces per
 level; ``rossrv show`` prints the request, ``---``, then the response.  A bare
 ``Type`` (no package) prints a ``[pkg/Type]:`` header per matching package.
 
-Types are looked up on the package path (bundled packages plus
-``DDES_PACKAGE_PATH``), read afresh on each command.  ``rosmsg show -b BAG``
-is not offered.
+Two front ends share the commands below:
+
+* ``ddes rosmsg`` / ``ddes rossrv`` (:func:`register`, :func:`main`): types
+  on the package path of the environment (bundled packages plus
+  ``DDES_PACKAGE_PATH``), read afresh on each command;
+* the console tool ``rosmsg`` (:data:`TOOLS`; :func:`rossrv` is the same
+  for services): the types of the console's world, ``ctx.world.messages``,
+  with the console's one-line usage errors.
+
+``rosmsg show -b BAG`` is not offered, and the type is never read from
+standard input (rosmsg reads it there when it is missing).
 """
 
 from __future__ import annotations
@@ -18,14 +26,24 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
-from ddes.errors import InvalidMsgSpec, MsgNotFound
+from ddes.errors import InvalidMsgSpec, MsgNotFound, ROSConsoleError
 from ddes.msg.registry import MessageRegistry
 from ddes.msg.spec import MsgSpec, bare_msg_type, is_builtin
 
-__all__ = ["get_msg_text", "get_srv_text", "main", "register", "spec_to_str"]
+if TYPE_CHECKING:
+    from ddes.console.tooling import ToolContext
+    from ddes.console.toolkit import ToolParser
+
+__all__ = ["TOOLS", "get_msg_text", "get_srv_text", "main", "register", "rosmsg", "rossrv",
+           "spec_to_str"]
 
 _EX_USAGE = getattr(os, "EX_USAGE", 64)
+
+#: Where a command writes a line (``print``, ``ctx.print``).
+Write = Callable[[str], None]
 
 
 class _ToolError(Exception):
@@ -63,16 +81,17 @@ def get_srv_text(registry: MessageRegistry, type_name: str, raw: bool = False) -
     return spec_to_str(registry, spec.request) + "---\n" + spec_to_str(registry, spec.response)
 
 
-def _clean_type(arg: str, mode: str, parser: argparse.ArgumentParser) -> str:
+def _clean_type(arg: str, mode: str, error: Callable[[str], object]) -> str:
+    """rosmsg's checks of a type argument (``.msg`` suffix dropped); ``error`` reports misuse."""
     ext = "." + mode
     if arg.endswith(ext):
         arg = arg[: -len(ext)]
     if "::" in arg:
-        parser.error(f"ros{mode} does not understand C++-style namespaces (i.e. '::').\n"
-                     "Please refer to msg/srv types as 'package_name/Type'.")
-    if "." in arg:
-        parser.error(f"invalid message type '{arg}'.\n"
-                     "Please refer to msg/srv types as 'package_name/Type'.")
+        error(f"ros{mode} does not understand C++-style namespaces (i.e. '::').\n"
+              "Please refer to msg/srv types as 'package_name/Type'.")
+    elif "." in arg:
+        error(f"invalid message type '{arg}'.\n"
+              "Please refer to msg/srv types as 'package_name/Type'.")
     return arg
 
 
@@ -86,19 +105,20 @@ def _text(registry: MessageRegistry, mode: str, type_name: str, raw: bool) -> st
         raise _ToolError(f"{what} [{type_name}]: {exc}") from None
 
 
-def _cmd_show(args: argparse.Namespace, registry: MessageRegistry) -> int:
-    mode = args.mode
-    arg = _clean_type(args.type, mode, args.parser)
+# -- the commands, writing through out/err -------------------------------------------------------
+def show(registry: MessageRegistry, mode: str, arg: str, raw: bool, out: Write,
+         err: Write) -> int:
+    """``rosmsg show [-r] TYPE`` on a checked type argument; raises _ToolError on a bad type."""
     if "/" in arg:
-        print(_text(registry, mode, arg, args.raw))
+        out(_text(registry, mode, arg, raw))
         return 0
     found = registry.find(arg, mode)
     if not found:
-        print(f"Could not find msg '{arg}'", file=sys.stderr)
+        err(f"Could not find msg '{arg}'")
         return 1
     for name in found:
-        print(f"[{name}]:")
-        print(_text(registry, mode, name, args.raw))
+        out(f"[{name}]:")
+        out(_text(registry, mode, name, raw))
     return 0
 
 
@@ -108,43 +128,47 @@ def _md5(registry: MessageRegistry, mode: str, type_name: str) -> str:
     return registry.get_service_class(type_name)._md5sum
 
 
-def _cmd_md5(args: argparse.Namespace, registry: MessageRegistry) -> int:
-    mode, arg = args.mode, args.type
+def md5(registry: MessageRegistry, mode: str, arg: str, out: Write, err: Write) -> int:
+    """``rosmsg md5 TYPE`` (rosmsg exits 0 even when the type is unknown)."""
     if "/" in arg:
         try:
-            print(_md5(registry, mode, arg))
+            out(_md5(registry, mode, arg))
         except (MsgNotFound, InvalidMsgSpec):
-            print(f"Cannot locate [{arg}]", file=sys.stderr)
+            err(f"Cannot locate [{arg}]")
         return 0
     matches = registry.find(arg, mode)
     for name in matches:
         try:
-            print(f"[{name}]: {_md5(registry, mode, name)}")
+            out(f"[{name}]: {_md5(registry, mode, name)}")
         except (MsgNotFound, InvalidMsgSpec):
-            print(f"Cannot locate [{name}]", file=sys.stderr)
+            err(f"Cannot locate [{name}]")
     if not matches:
-        print(f"No messages matching the name [{arg}]", file=sys.stderr)
+        err(f"No messages matching the name [{arg}]")
     return 0
 
 
-def _cmd_list(args: argparse.Namespace, registry: MessageRegistry) -> int:
-    for name in registry.iter_types(args.mode):
-        print(name)
+def list_all(registry: MessageRegistry, mode: str, out: Write) -> int:
+    """``rosmsg list``: every type, by package then name."""
+    for name in registry.iter_types(mode):
+        out(name)
     return 0
 
 
-def _cmd_package(args: argparse.Namespace, registry: MessageRegistry) -> int:
+def package(registry: MessageRegistry, mode: str, name: str, single_line: bool, out: Write,
+            err: Write) -> int:
+    """``rosmsg package [-s] PKG`` (exit code 64, EX_USAGE, for an unknown package)."""
     try:
-        names = registry.list_types(args.package, args.mode)
+        names = registry.list_types(name, mode)
     except MsgNotFound as exc:
-        print(f"Invalid package: {exc}", file=sys.stderr)
+        err(f"Invalid package: {exc}")
         return _EX_USAGE
-    print((" " if args.single_line else "\n").join(names))
+    out((" " if single_line else "\n").join(names))
     return 0
 
 
-def _cmd_packages(args: argparse.Namespace, registry: MessageRegistry) -> int:
-    print((" " if args.single_line else "\n").join(registry.list_packages(args.mode)))
+def packages(registry: MessageRegistry, mode: str, single_line: bool, out: Write) -> int:
+    """``rosmsg packages [-s]``: the packages defining types of this kind."""
+    out((" " if single_line else "\n").join(registry.list_packages(mode)))
     return 0
 
 
@@ -161,6 +185,36 @@ def _usage(mode: str) -> str:
         f"\t{cmd} packages\tList packages that contain {kind}s\n\n"
         f"Type {cmd} <command> -h for more detailed usage\n"
     )
+
+
+# -- ddes rosmsg / ddes rossrv (argparse) ----------------------------------------------------------
+def _stdout(text: str) -> None:
+    print(text)
+
+
+def _stderr(text: str) -> None:
+    print(text, file=sys.stderr)
+
+
+def _cmd_show(args: argparse.Namespace, registry: MessageRegistry) -> int:
+    arg = _clean_type(args.type, args.mode, args.parser.error)
+    return show(registry, args.mode, arg, args.raw, _stdout, _stderr)
+
+
+def _cmd_md5(args: argparse.Namespace, registry: MessageRegistry) -> int:
+    return md5(registry, args.mode, args.type, _stdout, _stderr)
+
+
+def _cmd_list(args: argparse.Namespace, registry: MessageRegistry) -> int:
+    return list_all(registry, args.mode, _stdout)
+
+
+def _cmd_package(args: argparse.Namespace, registry: MessageRegistry) -> int:
+    return package(registry, args.mode, args.package, args.single_line, _stdout, _stderr)
+
+
+def _cmd_packages(args: argparse.Namespace, registry: MessageRegistry) -> int:
+    return packages(registry, args.mode, args.single_line, _stdout)
 
 
 def main(args: argparse.Namespace) -> int:
@@ -187,14 +241,14 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         tool.set_defaults(func=main, mode=mode)
         verbs = tool.add_subparsers(metavar="COMMAND")
         for verb in ("show", "info"):
-            show = verbs.add_parser(verb, help=f"show {kind} description")
-            show.add_argument("type", help=f"{kind} type, pkg/Type or a bare Type")
-            show.add_argument("-r", "--raw", action="store_true",
-                              help=f"show raw {kind} text, including comments")
-            show.set_defaults(handler=_cmd_show, parser=show)
-        md5 = verbs.add_parser("md5", help=f"display {kind} md5sum")
-        md5.add_argument("type", help=f"{kind} type, pkg/Type or a bare Type")
-        md5.set_defaults(handler=_cmd_md5)
+            show_p = verbs.add_parser(verb, help=f"show {kind} description")
+            show_p.add_argument("type", help=f"{kind} type, pkg/Type or a bare Type")
+            show_p.add_argument("-r", "--raw", action="store_true",
+                                help=f"show raw {kind} text, including comments")
+            show_p.set_defaults(handler=_cmd_show, parser=show_p)
+        md5_p = verbs.add_parser("md5", help=f"display {kind} md5sum")
+        md5_p.add_argument("type", help=f"{kind} type, pkg/Type or a bare Type")
+        md5_p.set_defaults(handler=_cmd_md5)
         lst = verbs.add_parser("list", help=f"list all {kind}s")
         lst.set_defaults(handler=_cmd_list)
         pkg = verbs.add_parser("package", help=f"list {kind}s in a package")
@@ -206,3 +260,79 @@ def register(subparsers: argparse._SubParsersAction[argparse.ArgumentParser]) ->
         pkgs.add_argument("-s", dest="single_line", action="store_true",
                           help="list all packages on a single line")
         pkgs.set_defaults(handler=_cmd_packages)
+
+
+# -- the console tools (optparse, as rosmsg itself) ---------------------------------------------------
+def _one_arg(parser: ToolParser, args: list[str], full: str) -> str:
+    """The single type/package argument (rosmsg reads a missing one from stdin; ddes asks)."""
+    if not args:
+        parser.error(f"give the {full}: the console reads no {full} from standard input")
+    if len(args) > 1:
+        parser.error(f"you may only specify one {full}")
+    return args[0]
+
+
+def _console(ctx: ToolContext, argv: list[str], mode: str) -> int:
+    from ddes.console.toolkit import HelpPrinted, ToolParser
+
+    cmd = f"ros{mode}"
+    full = "message type" if mode == "msg" else "service type"
+    if not argv or argv[0] in ("-h", "--help"):
+        ctx.print(_usage(mode))
+        return 0
+    verb, rest = argv[0], argv[1:]
+    registry = ctx.world.messages
+    try:
+        if verb in ("show", "info"):
+            parser = ToolParser(ctx, f"usage: {cmd} {verb} [options] <{full}>", cmd)
+            parser.add_option("-r", "--raw", dest="raw", default=False, action="store_true",
+                              help="show raw message text, including comments")
+            parser.add_option("-b", "--bag", dest="bag", default=None, metavar="BAGFILE",
+                              help="show message from .bag file (not offered by ddes)")
+            options, args = parser.parse_args(rest)
+            arg = _clean_type(_one_arg(parser, args, full), mode, parser.error)
+            if options.bag:
+                raise ROSConsoleError(f"{cmd} show -b is not offered by ddes; 'rosbag info "
+                                      f"{options.bag}' lists the bag's types")
+            return show(registry, mode, arg, options.raw, ctx.print, ctx.eprint)
+        if verb == "md5":
+            parser = ToolParser(ctx, f"usage: {cmd} md5 <{full}>", cmd)
+            _options, args = parser.parse_args(rest)
+            return md5(registry, mode, _one_arg(parser, args, full), ctx.print, ctx.eprint)
+        if verb in ("package", "packages"):
+            usage = f"usage: {cmd} package <package>" if verb == "package" else \
+                f"usage: {cmd} packages"
+            parser = ToolParser(ctx, usage, cmd)
+            parser.add_option("-s", dest="single_line", default=False, action="store_true",
+                              help=f"list all {'msgs' if verb == 'package' else 'packages'} on "
+                                   "a single line")
+            options, args = parser.parse_args(rest)
+            if verb == "packages":
+                return packages(registry, mode, options.single_line, ctx.print)
+            return package(registry, mode, _one_arg(parser, args, "package"),
+                           options.single_line, ctx.print, ctx.eprint)
+        if verb == "list":
+            parser = ToolParser(ctx, f"usage: {cmd} list", cmd)
+            parser.parse_args(rest)
+            return list_all(registry, mode, ctx.print)
+    except HelpPrinted:
+        return 0
+    except _ToolError as exc:
+        ctx.eprint(str(exc))
+        return 1
+    raise ROSConsoleError(f"unknown command '{cmd} {verb}'; {cmd} commands: info, list, md5, "
+                          "package, packages, show")
+
+
+def rosmsg(ctx: ToolContext, argv: list[str]) -> int:
+    """The console's ``rosmsg``: ``show|info [-r]``, ``md5``, ``list``, ``package [-s]``,
+    ``packages [-s]`` on the world's message types."""
+    return _console(ctx, argv, "msg")
+
+
+def rossrv(ctx: ToolContext, argv: list[str]) -> int:
+    """``rossrv`` on the world's service types (what :func:`rosmsg` is for messages)."""
+    return _console(ctx, argv, "srv")
+
+
+TOOLS = {"rosmsg": rosmsg}

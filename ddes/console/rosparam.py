@@ -9,6 +9,8 @@ merged key by key, the empty string stays a string); ``load`` reads every
 YAML document of a file into a namespace (``_ns`` keys honoured,
 ``!degrees``/``!radians`` converted).  Errors use rosparam's wording:
 ``Parameter [/x] is not set``, ``parameter [/x] is not set`` (delete).
+Relative file names (``load``, ``dump``, ``set -t/-b``) start at the
+console's working directory (``roscd``, ``cd``), ``ctx.resolve_path``.
 """
 
 from __future__ import annotations
@@ -171,7 +173,7 @@ def _get_dump(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
     if not arg:
         _write(ctx, dump_text(tree))
     else:
-        Path(arg).write_text(dump_text(tree), encoding="utf-8")
+        Path(ctx.resolve_path(arg)).write_text(dump_text(tree), encoding="utf-8")
     return 0
 
 
@@ -209,7 +211,7 @@ def _set_load(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
     if cmd == "set":
         name = script_resolve_name("rosparam", arg)
         if options.text_file:
-            path = Path(options.text_file)
+            path = Path(ctx.resolve_path(options.text_file))
             if not path.exists():
                 parser.error(f"file '{options.text_file}' does not exist")
             data = read_bounded(path, what="text file", error=ROSParamException)
@@ -221,9 +223,10 @@ def _set_load(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
                     f"{exc.start}); use --binfile for binary data") from None
             _set_raw(params, name, text_value, options.verbose, ctx)
         elif options.bin_file:
-            if not Path(options.bin_file).exists():
+            bin_path = ctx.resolve_path(options.bin_file)
+            if not Path(bin_path).exists():
                 parser.error(f"file '{options.bin_file}' does not exist")
-            _set_raw(params, name, read_bounded(options.bin_file, what="binary file",
+            _set_raw(params, name, read_bounded(bin_path, what="binary file",
                                                 error=ROSParamException),
                      options.verbose, ctx)
         else:
@@ -237,7 +240,7 @@ def _set_load(ctx: ToolContext, cmd: str, argv: list[str]) -> int:
         return 0
     if arg == "-":
         raise ROSParamException("ddes reads no parameters from stdin; give a YAML file")
-    path = Path(arg)
+    path = Path(ctx.resolve_path(arg))
     if not path.exists():
         raise ROSParamException(f"file [{arg}] does not exist")
     if options.verbose:

@@ -125,7 +125,7 @@ def roslaunch(ctx: ToolContext, argv: list[str]) -> int:
         return 0
     duration = parse_duration(options.duration)
     world = ctx.world
-    path, launch_args = resolve_launch_args(rest, ctx.rospack)
+    path, launch_args = resolve_launch_args([*(ctx.resolve_path(w) if ":=" not in w and ("/" in w or w.endswith((".launch", ".xml"))) else w for w in rest[:1]), *rest[1:]], ctx.rospack)  # a relative launch file path starts at the console's directory (roscd, cd)
     plan = load_launch(path, launch_args, ctx.rospack, anon_seed=world.rng_for("roslaunch"))
     if options.node_list:
         ctx.print("\n".join(n.full_name for n in plan.nodes))

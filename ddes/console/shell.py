@@ -75,6 +75,8 @@ _SUBCOMMANDS: dict[str, tuple[str, ...]] = {
     "rossrv": ("info", "list", "md5", "package", "packages", "show"),
     "rosbag": ("check", "compress", "decompress", "filter", "fix", "info", "play", "record",
                "reindex"),
+    "rospack": ("depends", "depends-on", "depends-on1", "depends1", "find", "help", "list",
+                "list-names"),
 }
 
 _HELP = """ddes console: ROS 1 tools on one simulated world (time stands still while you type).

@@ -49,8 +49,11 @@ __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", 
 #: Modules defining world-bound tools (``TOOLS = {"name": fn}``); one line per module.
 TOOL_MODULES: tuple[str, ...] = (
     "ddes.console.rosbag",
+    "ddes.console.roscd",
+    "ddes.console.rosmsg",
     "ddes.console.rosnode",
     "ddes.console.rosparam",
+    "ddes.console.rospack",
     "ddes.console.rosrun",
     "ddes.console.rosservice",
     "ddes.console.rostopic",
