@@ -50,6 +50,7 @@ __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", 
 TOOL_MODULES: tuple[str, ...] = (
     "ddes.console.rosbag",
     "ddes.console.roscd",
+    "ddes.console.roscore",
     "ddes.console.rosmsg",
     "ddes.console.rosnode",
     "ddes.console.rosparam",
