@@ -11,6 +11,8 @@ lecture cell every name it needs::
                          queue_size=10)
 """
 
+from typing import TYPE_CHECKING
+
 from ddes import errors
 from ddes._version import __version__
 from ddes.actionlib import (
@@ -102,3 +104,54 @@ __all__ = [
     "wait_for_message",
     "wait_for_service",
 ]
+
+#: rospy's module functions, which ddes has on the node or the world (there is no global
+#: node): the ddes code to write instead of each.
+_ROSPY_FUNCTIONS: dict[str, tuple[str, ...]] = {
+    "init_node": ("world = ddes.World(seed=0)",
+                  'node = world.create_node("my_node")    # anonymous=, argv=, use_sim_time= too',
+                  "node.process(main(node))    # main is a generator: yield node.sleep(1.0) ...",
+                  "world.run(until=10.0)    # ten simulated seconds"),
+    "spin": ("world.run(until=10.0)    # callbacks run while the world runs",
+             "yield node.spin()    # or, in a node's process: wait until the node shuts down"),
+    "spin_once": ("yield node.spin_once()    # a node made with spinner=\"manual\"",),
+    "get_time": ("node.get_time()",),
+    "get_rostime": ("node.get_rostime()    # or ddes.Time.now(node)",),
+    "is_shutdown": ("node.is_shutdown()",),
+    "signal_shutdown": ("node.signal_shutdown(reason)",),
+    "on_shutdown": ("node.on_shutdown(hook)    # hook(reason)",),
+    "get_name": ("node.get_name()",),
+    "get_caller_id": ("node.get_name()",),
+    "get_namespace": ("node.get_namespace()",),
+    "resolve_name": ("node.resolve_name(name)",),
+    "remap_name": ("node.resolve_name(name)",),
+    "myargv": ("node.argv    # the node's command line without ROS arguments",),
+    "get_param_cached": ("node.get_param(name)",),
+    "get_published_topics": ("world.master.get_published_topics()",),
+    "get_master": ("world.master",),
+}
+for _name in ("get_param", "set_param", "has_param", "delete_param", "search_param",
+              "get_param_names"):
+    _ROSPY_FUNCTIONS[_name] = (f"node.{_name}(...)",)
+for _level in ("debug", "info", "warn", "err", "fatal"):
+    for _suffix in ("", "_throttle", "_once"):
+        _ROSPY_FUNCTIONS[f"log{_level}{_suffix}"] = (f"node.log{_level}{_suffix}(...)",)
+    _ROSPY_FUNCTIONS[f"log{_level}_throttle_identical"] = (
+        f"node.log{_level}_throttle(period, ...)    # ddes has no _throttle_identical",)
+del _name, _level, _suffix
+
+if not TYPE_CHECKING:  # type checkers report these names as missing, as they are
+    def __getattr__(name: str) -> object:
+        """``ddes.init_node`` and the other rospy functions: say what to write in ddes."""
+        lines = _ROSPY_FUNCTIONS.get(name)
+        message = f"module 'ddes' has no attribute {name!r}"
+        if lines is None:
+            raise AttributeError(message, name=name)
+        code = "".join(f"\n    {line}" for line in lines)
+        from ddes.time.rospy_calls import NODE_HINT
+
+        raise errors.NoGlobalFunctionError(
+            f"{message}: rospy.{name} works on rospy's one global node, and ddes has none "
+            f"(there is no rospy.init_node); a ddes world holds many nodes. Write:{code}"
+            + ("" if name == "init_node" else f"\n{NODE_HINT}"),
+            name=name)

@@ -26,7 +26,9 @@ __all__ = [
     "DigestError",
     "DynamicReconfigureCallbackException",
     "InvalidMsgSpec",
+    "MissingNodeError",
     "MsgNotFound",
+    "NoGlobalFunctionError",
     "NodeShutdownError",
     "ROSActionException",
     "ROSBagEncryptNotSupportedException",
@@ -46,6 +48,7 @@ __all__ = [
     "ROSTimeMovedBackwardsException",
     "ROSTopicException",
     "ResourceLimitError",
+    "RospyCallError",
     "RunawayError",
     "ServiceException",
     "ServiceTimeout",
@@ -145,6 +148,29 @@ class ROSTimeMovedBackwardsException(ROSInterruptException):
 
 class NodeShutdownError(ROSException):
     """A node (or one of its entities) was used after ``shutdown()``."""
+
+
+class RospyCallError(ROSInitException):
+    """A rospy-shaped call that ddes spells differently (ddes has no global node).
+
+    rospy keeps one node per process (``rospy.init_node``); a ddes world holds
+    many, so every ROS call takes its node (or world) first.  The message
+    shows the ddes call to write instead.
+    """
+
+
+class MissingNodeError(RospyCallError, DdesTypeError):
+    """A ddes call made the rospy way, without its node first: ``ddes.Rate(10)``.
+
+    Also a ``TypeError``, as the missing argument would be.
+    """
+
+
+class NoGlobalFunctionError(RospyCallError, DdesAttributeError):
+    """A rospy module function ddes has as a node or world method: ``ddes.init_node``.
+
+    Also an ``AttributeError``, so ``hasattr(ddes, "init_node")`` stays False.
+    """
 
 
 class ROSNameException(DdesValueError):

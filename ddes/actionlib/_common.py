@@ -12,7 +12,9 @@
   (:meth:`ddes.graph.callbacks.CallbackQueue.run`) holds the spinner until it
   ends;
 * :func:`misuse` logs a misuse with ROS's text and records it as an
-  ``action.misuse`` trace event, so a grader can count it.
+  ``action.misuse`` trace event, so a grader can count it;
+* :func:`no_node` explains a server or client made the rospy way, without
+  its node (``SimpleActionServer("fib", FibonacciAction, ...)``).
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass
 from types import GeneratorType
-from typing import TYPE_CHECKING, Any, TypeAlias, cast
+from typing import TYPE_CHECKING, Any, NoReturn, TypeAlias, cast
 
 import simpy
 
@@ -28,6 +30,7 @@ from ddes.actionlib.goal_id import GoalIdGenerator, GoalIdStamp, GoalIdStyle
 from ddes.errors import ROSActionException
 from ddes.graph.rosout import ERROR, WARN
 from ddes.msg.message import Message
+from ddes.time.rospy_calls import node_first
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -40,9 +43,25 @@ __all__ = [
     "UserCall",
     "check_message",
     "misuse",
+    "no_node",
     "queue_size_param",
     "run_user_callbacks",
 ]
+
+def no_node(cls: str, var: str, ns: object, args: list[object],
+            kwargs: dict[str, object], *, start: bool | None = None) -> NoReturn:
+    """Raise the error for ``ddes.<cls>(ns, ...)`` made the rospy way, without the node.
+
+    ``args`` and ``kwargs`` are the user's arguments after the namespace, as
+    rospy reads them; the message shows the ddes call with ``node`` first,
+    and ``server.start()`` when the server will not start by itself
+    (``start``; by default when ``auto_start=False`` was given).
+    """
+    if start is None:
+        start = kwargs.get("auto_start") is False
+    more = ["server.start()    # the server starts when you say so"] if start else []
+    node_first(cls, f"{var} = ", ns, args, kwargs, *more)
+
 
 #: The rest of a callback that takes simulated time: a generator of events to wait for.
 CallbackGenerator: TypeAlias = Generator[simpy.Event, Any, None]

@@ -45,6 +45,7 @@ from ddes.actionlib._common import (
     NodeGoalIds,
     check_message,
     misuse,
+    no_node,
     queue_size_param,
 )
 from ddes.actionlib.goal_id import GoalIdStyle
@@ -60,6 +61,7 @@ from ddes.actionlib.states import (
 from ddes.errors import DdesTypeError
 from ddes.graph.rosout import WARN
 from ddes.msg.message import Message
+from ddes.time.rospy_calls import REQUIRED, is_node_like
 from ddes.time.rostime import Time
 from ddes.time.units import DurationLike, TimeLike, duration_to_ns, time_to_ns
 
@@ -229,7 +231,10 @@ class ActionClient:
     """``ActionClient(node, ns, ActionSpec)``: send goals, follow them, cancel them."""
 
     def __init__(self, node: Node, ns: str,
-                 ActionSpec: type[Message] | str) -> None:  # noqa: N803 - rospy's name
+                 ActionSpec: type[Message] | str = REQUIRED) -> None:  # noqa: N803 - rospy's
+        if not is_node_like(node):  # rospy's ActionClient(ns, ActionSpec)
+            no_node("ActionClient", "client", node,
+                    [a for a in (ns, ActionSpec) if a is not REQUIRED], {})
         node.check_alive("create an action client")
         if not isinstance(ns, str) or not ns:
             raise DdesTypeError(f"action namespace must be a non-empty string, got {ns!r}")

@@ -44,6 +44,7 @@ from ddes.actionlib._common import (
     UserCall,
     check_message,
     misuse,
+    no_node,
     queue_size_param,
     run_user_callbacks,
 )
@@ -65,6 +66,7 @@ from ddes.actionlib.states import TERMINAL_STATUSES, GoalStatus, ServerEvent, Se
 from ddes.errors import DdesTypeError, ROSActionException
 from ddes.graph.rosout import WARN
 from ddes.msg.message import Message
+from ddes.time.rospy_calls import REQUIRED, is_node_like
 from ddes.time.rostime import Duration, Time
 from ddes.time.units import duration_to_ns, time_to_ns
 
@@ -218,10 +220,22 @@ class ActionServer:
         node: Node,
         ns: str,
         ActionSpec: type[Message] | str,  # noqa: N803 - rospy's parameter name
-        goal_cb: GoalHandleCallback,
+        goal_cb: GoalHandleCallback = REQUIRED,
         cancel_cb: GoalHandleCallback | None = None,
         auto_start: bool = False,
     ) -> None:
+        if not is_node_like(node):
+            # rospy's ActionServer(ns, ActionSpec, goal_cb, cancel_cb, auto_start): shifted left
+            args: list[object] = [a for a in (ns, ActionSpec) if a is not REQUIRED]
+            kwargs: dict[str, object] = {}
+            if goal_cb is not REQUIRED:  # by position: rospy's cancel_cb
+                kwargs["cancel_cb"] = goal_cb
+            if cancel_cb is not None:  # by position: rospy's auto_start
+                kwargs["auto_start"] = cancel_cb
+            elif auto_start:
+                kwargs["auto_start"] = auto_start
+            no_node("ActionServer", "server", node, args, kwargs,
+                    start=kwargs.get("auto_start") is not True)
         node.check_alive("create an action server")
         if not isinstance(ns, str) or not ns:
             raise DdesTypeError(f"action namespace must be a non-empty string, got {ns!r}")

@@ -28,7 +28,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator
 from typing import TYPE_CHECKING, Any
 
-from ddes.actionlib._common import CallbackGenerator, misuse, run_user_callbacks
+from ddes.actionlib._common import CallbackGenerator, misuse, no_node, run_user_callbacks
 from ddes.actionlib.client import ActionClient, ClientGoalHandle
 from ddes.actionlib.states import (
     CommState,
@@ -40,6 +40,7 @@ from ddes.actionlib.states import (
     simple_transition,
 )
 from ddes.msg.message import Message
+from ddes.time.rospy_calls import REQUIRED, is_node_like
 from ddes.time.units import DurationLike, TimeLike, duration_to_ns
 
 if TYPE_CHECKING:
@@ -61,7 +62,10 @@ class SimpleActionClient:
     """``SimpleActionClient(node, ns, ActionSpec)``."""
 
     def __init__(self, node: Node, ns: str,
-                 ActionSpec: type[Message] | str) -> None:  # noqa: N803 - rospy's name
+                 ActionSpec: type[Message] | str = REQUIRED) -> None:  # noqa: N803 - rospy's
+        if not is_node_like(node):  # rospy's SimpleActionClient(ns, ActionSpec)
+            no_node("SimpleActionClient", "client", node,
+                    [a for a in (ns, ActionSpec) if a is not REQUIRED], {})
         self.node = node
         self.action_client = ActionClient(node, ns, ActionSpec)
         self.simple_state = SimpleGoalState.DONE

@@ -44,12 +44,19 @@ from collections.abc import Callable
 from types import GeneratorType
 from typing import TYPE_CHECKING, Any
 
-from ddes.actionlib._common import CallbackGenerator, UserCall, misuse, run_user_callbacks
+from ddes.actionlib._common import (
+    CallbackGenerator,
+    UserCall,
+    misuse,
+    no_node,
+    run_user_callbacks,
+)
 from ddes.actionlib.server import AUTO_START_WARNING, ActionServer, ServerGoalHandle
 from ddes.actionlib.states import GoalStatus
 from ddes.errors import DdesTypeError, ROSActionException
 from ddes.graph.rosout import WARN
 from ddes.msg.message import Message
+from ddes.time.rospy_calls import REQUIRED, is_node_like
 
 if TYPE_CHECKING:
     import simpy
@@ -90,8 +97,20 @@ class SimpleActionServer:
     """``SimpleActionServer(node, name, ActionSpec, execute_cb=None, auto_start=True)``."""
 
     def __init__(self, node: Node, name: str,
-                 ActionSpec: type[Message] | str,  # noqa: N803 - rospy's name
+                 ActionSpec: type[Message] | str = REQUIRED,  # noqa: N803 - rospy's name
                  execute_cb: ExecuteCallback | None = None, auto_start: bool = True) -> None:
+        if not is_node_like(node):
+            # rospy's SimpleActionServer(name, ActionSpec, execute_cb, auto_start): shifted left
+            r_cb: object = execute_cb
+            r_auto: object = auto_start
+            if ActionSpec is not REQUIRED:  # given by position: rospy's execute_cb, auto_start
+                r_cb, r_auto = ActionSpec, (auto_start if execute_cb is None else execute_cb)
+            kwargs: dict[str, object] = {}
+            if r_cb is not None:
+                kwargs["execute_cb"] = r_cb
+            if r_auto is not True:
+                kwargs["auto_start"] = r_auto
+            no_node("SimpleActionServer", "server", node, [name], kwargs)
         if execute_cb is not None and not callable(execute_cb):
             raise DdesTypeError(f"execute_cb must be callable or None, got {execute_cb!r}")
         self.node = node

@@ -12,8 +12,12 @@ one ``xmlrpc reply from URI\\ttime=...ms`` per simulated second.
 ddes specifics: URIs and pids are synthetic (:func:`ddes.launch.runtime.node_uri`);
 a ping takes ``world.connect_delay`` of simulated time (the XML-RPC round
 trip) and, since ROS pings until Ctrl+C, needs ``-c COUNT`` or
-``--duration S`` (or ``&``).  An unknown node is an error with a non-zero
-exit (rosnode only prints to stderr and exits 0) so scripts stop there.
+``--duration S`` (or ``&``).  An unknown node prints rosnode's text
+(``cannot contact [/n]: unknown node`` after the empty ``info`` block,
+``cannot ping [/n]: unknown node``, ``ERROR: Unknown node(s):`` and a
+`` * /n`` line each) with exit code 1 (rosnode exits 0 after the first
+two) so scripts stop there.  rospy's connection details (``outbound (PORT
+- IP:PORT) [FD]``) are not shown: there are no sockets.
 ``rosnode machine`` lists ``localhost``; ``rosnode cleanup`` has nothing
 to purge (every registration belongs to a live node).
 """
@@ -154,16 +158,19 @@ def _info(ctx: ToolContext, argv: list[str]) -> int:
     if not args:
         parser.error("You must specify at least one node name")
     world = ctx.world
+    code = 0
     for arg in args:
         name = script_resolve_name("rosnode", arg)
-        if world.master.lookup_node(name) is None:
-            raise ROSConsoleError(f"cannot contact [{name}]: unknown node")
         ctx.print("-" * 80)
         ctx.print(get_node_info_description(world, name))
+        if world.master.lookup_node(name) is None:
+            ctx.eprint(f"cannot contact [{name}]: unknown node")
+            code = 1  # rosnode goes on to the next node and exits 0; ddes stops a script
+            continue
         if not options.quiet:
             ctx.print(f"\ncontacting node {node_uri(name)} ...")
             ctx.print(get_node_connection_info_description(world, name))
-    return 0
+    return code
 
 
 def _kill(ctx: ToolContext, argv: list[str]) -> int:
@@ -184,7 +191,8 @@ def _kill(ctx: ToolContext, argv: list[str]) -> int:
         known = get_node_names(world)
         unknown = [n for n in names if n not in known]
         if unknown:
-            raise ROSConsoleError("Unknown node(s): " + ", ".join(unknown))
+            ctx.eprint("ERROR: Unknown node(s):\n" + "\n".join(f" * {n}" for n in unknown))
+            return 1
     if len(names) > 1:
         ctx.print("killing:\n" + "\n".join(f" * {n}" for n in names))
     elif names:
@@ -227,7 +235,8 @@ def _ping(ctx: ToolContext, argv: list[str]) -> int:
     name = script_resolve_name("rosnode", args[0])
     ctx.print(f"rosnode: node is [{name}]")
     if world.master.lookup_node(name) is None:
-        raise ROSConsoleError(f"cannot ping [{name}]: unknown node")
+        ctx.eprint(f"cannot ping [{name}]: unknown node")
+        return 1  # rosnode exits 0 here; ddes stops a script
     count = options.ping_count
     if count is not None and count <= 0:
         count = None

@@ -37,8 +37,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ddes.errors import DdesValueError
+from ddes.errors import DdesTypeError, DdesValueError
 from ddes.kernel.events import post
+from ddes.time.rospy_calls import REQUIRED, arg_text, call_text, is_node_like, missing_node
 from ddes.time.rostime import Duration, Time
 from ddes.time.units import DurationLike, duration_to_ns
 
@@ -129,6 +130,22 @@ def _ns_or_none(t: Time | int | None) -> int | None:
 
 
 
+def _no_node(node: object, period: object, callback: object, oneshot: bool,
+             reset: bool) -> None:
+    """``ddes.Timer(rospy.Duration(1), cb)``, rospy's spelling: say what to write instead."""
+    if callable(period) and not callable(callback):
+        if callback is not REQUIRED:  # rospy.Timer(period, cb, oneshot, reset): all shifted
+            oneshot, reset = bool(callback), bool(oneshot or reset)
+        kwargs: dict[str, object] = {k: v for k, v in (("oneshot", oneshot), ("reset", reset)) if v}
+        args = [node, period]
+        extra = "".join(f", {k}={arg_text(v)}" for k, v in kwargs.items())
+        raise missing_node(
+            call_text("ddes.Timer", args, kwargs),
+            f"timer = ddes.Timer(node, {arg_text(node)}, {arg_text(period)}{extra})"
+            f"    # or node.create_timer({arg_text(node)}, {arg_text(period)}{extra})")
+    raise DdesTypeError(f"ddes.Timer(node, period, callback) needs a node first, got {node!r}")
+
+
 class Timer:
     """rospy's ``Timer``: ``ddes.Timer(node, period, callback, oneshot=False, reset=False)``.
 
@@ -141,10 +158,12 @@ class Timer:
         self,
         node: Node,
         period: DurationLike,
-        callback: Callable[[TimerEvent], object],
+        callback: Callable[[TimerEvent], object] = REQUIRED,
         oneshot: bool = False,
         reset: bool = False,
     ) -> None:
+        if not is_node_like(node):
+            _no_node(node, period, callback, oneshot, reset)
         period_ns = duration_to_ns(period, "timer period")
         if period_ns <= 0:
             raise DdesValueError(f"timer period must be > 0, got {period!r}")

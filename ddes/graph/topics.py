@@ -39,6 +39,7 @@ from ddes.errors import (
 )
 from ddes.kernel.events import post
 from ddes.msg.anymsg import AnyMsg
+from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
@@ -246,13 +247,20 @@ class Publisher(Generic[_C_co]):
         self,
         node: Node,
         name: str,
-        data_class: _C_co,
+        data_class: _C_co = REQUIRED,
         subscriber_listener: object = None,
         tcp_nodelay: bool = False,
         latch: bool = False,
         headers: dict[str, str] | None = None,
         queue_size: int | None = None,
     ) -> None:
+        if not is_node_like(node):
+            # rospy.Publisher(name, data_class, ...): everything moved one place to the left
+            kwargs: dict[str, object] = {
+                k: v for k, v in (("latch", latch or None), ("queue_size", queue_size))
+                if v is not None}
+            node_first("Publisher", "pub = ", node, [name, data_class], kwargs,
+                       "pub.publish(...)    # from the node's code", method="advertise")
         node.check_alive("create a publisher")
         _check_data_class(data_class, name)
         if queue_size is not None and (isinstance(queue_size, bool) or not isinstance(queue_size, int)
@@ -396,7 +404,7 @@ class Subscriber(Generic[_C_co]):
         self,
         node: Node,
         name: str,
-        data_class: _C_co,
+        data_class: _C_co = REQUIRED,
         callback: Callable[..., object] | None = None,
         callback_args: object = None,
         queue_size: int | None = None,
@@ -405,6 +413,11 @@ class Subscriber(Generic[_C_co]):
         *,
         internal: bool = False,
     ) -> None:
+        if not is_node_like(node):
+            # rospy.Subscriber(name, data_class, callback, callback_args, ...), shifted left
+            sub_kwargs: dict[str, object] = {} if queue_size is None else {"queue_size": queue_size}
+            node_first("Subscriber", "sub = ", node, [name, data_class, callback], sub_kwargs,
+                       method="subscribe")
         node.check_alive("create a subscriber")
         _check_data_class(data_class, name)
         if queue_size == -1:

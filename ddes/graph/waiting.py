@@ -6,7 +6,8 @@ from typing import TYPE_CHECKING
 
 import simpy
 
-from ddes.errors import ROSException
+from ddes.errors import DdesTypeError, ROSException
+from ddes.time.rospy_calls import REQUIRED, arg_text, call_text, is_node_like, missing_node
 from ddes.time.units import DurationLike, duration_to_ns
 
 if TYPE_CHECKING:
@@ -16,7 +17,7 @@ if TYPE_CHECKING:
 __all__ = ["wait_for_message"]
 
 
-def wait_for_message(node: Node, topic: str, data_class: type[MessageLike],
+def wait_for_message(node: Node, topic: str, data_class: type[MessageLike] = REQUIRED,
                      timeout: DurationLike | None = None) -> simpy.Event:
     """Event whose value is the next message on ``topic``.
 
@@ -26,6 +27,18 @@ def wait_for_message(node: Node, topic: str, data_class: type[MessageLike],
     rospy's text.
     """
     from ddes.graph.topics import Subscriber
+
+    if not is_node_like(node):
+        if not isinstance(node, str):
+            raise DdesTypeError(f"ddes.wait_for_message(node, topic, data_class) needs a node "
+                                f"first, got {node!r}")
+        # rospy.wait_for_message(topic, topic_type, timeout): shifted one place left
+        args: list[object] = [node, topic] + ([data_class] if data_class is not REQUIRED else [])
+        kwargs: dict[str, object] = {"timeout": timeout} if timeout is not None else {}
+        inner = ", ".join([arg_text(a) for a in args]
+                          + [f"{k}={arg_text(v)}" for k, v in kwargs.items()])
+        raise missing_node(call_text("ddes.wait_for_message", args, kwargs),
+                           f"msg = yield node.wait_for_message({inner})    # in the node's process")
 
     env = node.world.env
     result = env.event()

@@ -43,6 +43,7 @@ from ddes.services.network import network_of
 from ddes.services.server import check_service_name
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
 from ddes.services.waiting import check_nonzero_timeout, wait_for_service, wait_for_service_ns
+from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 from ddes.time.sleep import must_yield
 from ddes.time.units import DurationLike, duration_to_ns, ns_to_sec
 
@@ -77,9 +78,12 @@ class ServiceProxy:
     default call timeout (seconds or Duration of ROS time; a ddes extension).
     """
 
-    def __init__(self, node: Node, name: str, service_class: type[ServiceDefinition],
+    def __init__(self, node: Node, name: str, service_class: type[ServiceDefinition] = REQUIRED,
                  persistent: bool = False, headers: dict[str, str] | None = None, *,
                  timeout: DurationLike | None = None) -> None:
+        if not is_node_like(node):  # rospy's ServiceProxy(name, service_class): shifted
+            node_first("ServiceProxy", "proxy = ", node, [name], {},
+                       "resp = yield proxy(req)    # in the node's process")
         node.check_alive("create a service proxy")
         check_service_name(name, "ServiceProxy")
         check_service_class(service_class, f"ServiceProxy {name!r}")

@@ -46,6 +46,7 @@ from ddes.services.convert import (
 )
 from ddes.services.network import network_of
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
+from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 
 if TYPE_CHECKING:
     import simpy
@@ -89,13 +90,15 @@ class Service:
         self,
         node: Node,
         name: str,
-        service_class: type[ServiceDefinition],
-        handler: Handler,
+        service_class: type[ServiceDefinition] = REQUIRED,
+        handler: Handler = REQUIRED,
         buff_size: int = 65536,
         error_handler: ErrorHandler | None = None,
         *,
         style: str = "rospy",
     ) -> None:
+        if not is_node_like(node):  # rospy's Service(name, service_class, handler): shifted
+            node_first("Service", "srv = ", node, [name, service_class], {})
         node.check_alive("advertise a service")
         check_service_name(name, "Service")
         check_service_class(service_class, f"service {name!r}")

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from ddes.errors import DdesValueError, ROSException, ROSInterruptException
 from ddes.services.network import network_of
 from ddes.services.server import check_service_name
+from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 from ddes.time.sleep import must_yield
 from ddes.time.units import DurationLike, duration_to_ns
 
@@ -63,7 +64,7 @@ class _Waiter:
         network_of(self.node.world).remove_waiter(self.name, self.registered)
 
 
-def wait_for_service(node: Node, service: str,
+def wait_for_service(node: Node, service: str = REQUIRED,
                      timeout: DurationLike | None = None) -> simpy.Event:
     """Event that fires once ``service`` is available (rospy.wait_for_service).
 
@@ -74,6 +75,11 @@ def wait_for_service(node: Node, service: str,
     timeout fails at once (rospy's loop never runs).  If the node shuts down
     first the event fails with ``ROSInterruptException("rospy shutdown")``.
     """
+    if not is_node_like(node):  # rospy's wait_for_service(service, timeout): shifted
+        node_first("wait_for_service", "yield ", node, [],
+                   {"timeout": service} if service is not REQUIRED else
+                   ({} if timeout is None else {"timeout": timeout}),
+                   "(in the node's process)")
     check_service_name(service, "wait_for_service")
     timeout_ns = None if timeout is None else duration_to_ns(timeout, "timeout")
     check_nonzero_timeout(timeout_ns)

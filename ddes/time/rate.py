@@ -24,6 +24,7 @@ import simpy
 
 from ddes.errors import DdesTypeError, DdesValueError, ROSTimeMovedBackwardsException
 from ddes.time.clock import Clock, ClockOwner, KernelClock
+from ddes.time.rospy_calls import REQUIRED, arg_text, call_text, missing_node
 from ddes.time.rostime import Duration, WallDuration
 from ddes.time.sleep import MUST_YIELD, _sim_sleep, duration_sleep, must_yield
 
@@ -69,10 +70,26 @@ def _clock_of(owner: Clock | ClockOwner) -> Clock:
     return clock
 
 
+def _check_rospy_shape(cls: str, method: str, node: object, hz: object,
+                       kwargs: dict[str, object]) -> None:
+    """``ddes.Rate(10)``, rospy's spelling, left ``hz`` out: say what to write instead."""
+    if hz is not REQUIRED:
+        return
+    if isinstance(node, numbers.Real) and not isinstance(node, bool):
+        extra = "".join(f", {k}={arg_text(v)}" for k, v in kwargs.items())
+        raise missing_node(call_text(f"ddes.{cls}", [node], kwargs),
+                           f"rate = ddes.{cls}(node, {arg_text(node)}{extra})"
+                           f"    # or node.{method}({arg_text(node)}{extra})",
+                           "yield rate.sleep()    # in the node's process")
+    raise DdesTypeError(f"ddes.{cls} needs a frequency in Hz: ddes.{cls}(node, 10)")
+
+
 class Rate:
     """rospy.Rate on a node's ROS clock: ``yield rate.sleep()``."""
 
-    def __init__(self, node: Clock | ClockOwner, hz: float, reset: bool = False) -> None:
+    def __init__(self, node: Clock | ClockOwner, hz: float = REQUIRED, reset: bool = False) -> None:
+        _check_rospy_shape(type(self).__name__, "create_rate", node, hz,
+                           {"reset": reset} if reset else {})
         self._clock = _clock_of(node)
         hz = check_hz(hz)
         period = int(1e9 / hz)
@@ -133,7 +150,10 @@ class Rate:
 class WallRate(Rate):
     """roscpp ``ros::WallRate``: a Rate on the kernel ("wall") clock."""
 
-    def __init__(self, node: KernelClockOwner | WorldOwner, hz: float, reset: bool = False) -> None:
+    def __init__(self, node: KernelClockOwner | WorldOwner, hz: float = REQUIRED,
+                 reset: bool = False) -> None:
+        _check_rospy_shape("WallRate", "create_wall_rate", node, hz,
+                           {"reset": reset} if reset else {})
         world = node.world if hasattr(node, "world") else node  # a node's world, or the world
         super().__init__(world.kernel_clock, hz, reset)
 
@@ -145,7 +165,8 @@ class WallRate(Rate):
 class RoscppRate:
     """roscpp ``ros::Rate``: ``ok = yield rate.sleep()`` tells if the cycle was met."""
 
-    def __init__(self, node: Clock | ClockOwner, hz: float) -> None:
+    def __init__(self, node: Clock | ClockOwner, hz: float = REQUIRED) -> None:
+        _check_rospy_shape("RoscppRate", "create_roscpp_rate", node, hz, {})
         self._clock = _clock_of(node)
         hz = check_hz(hz)
         self._period = roscpp_period_ns(hz)

@@ -358,12 +358,10 @@ class Time(_TimeBase["Duration"]):
         the node (or its clock) must be passed.
         """
         if clock is None:
-            from ddes.errors import ROSInitException
+            from ddes.time.rospy_calls import missing_node
 
-            raise ROSInitException(
-                "time is not initialized: ddes has no global node; call "
-                "Time.now(node) or node.get_rostime()"
-            )
+            raise missing_node("ddes.Time.now()",
+                               "ddes.Time.now(node)    # or node.get_rostime()")
         return clock.get_rostime()
 
 

@@ -15,8 +15,9 @@ from collections.abc import Generator
 
 import simpy
 
-from ddes.errors import ROSTimeMovedBackwardsException
+from ddes.errors import DdesTypeError, ROSTimeMovedBackwardsException
 from ddes.time.clock import Clock, ClockOwner
+from ddes.time.rospy_calls import REQUIRED, arg_text, missing_node
 from ddes.time.units import DurationLike, duration_to_ns
 
 __all__ = ["MUST_YIELD", "duration_sleep", "must_yield", "sleep", "sleep_ns"]
@@ -51,9 +52,26 @@ def sleep_ns(clock: Clock, d_ns: int) -> simpy.Event:
     return clock.env.process(_sim_sleep(clock, d_ns))
 
 
-def sleep(clock: Clock | ClockOwner, duration: DurationLike) -> simpy.Event:
+def _clock_for(fn: str, method: str, clock: object, duration: object) -> Clock:
+    """The clock of ``clock`` (a node or a clock); a rospy-shaped ``fn(0.5)`` is explained."""
+    if duration is REQUIRED:
+        if getattr(clock, "clock", clock) is clock and not isinstance(clock, Clock):
+            d = arg_text(clock)
+            raise missing_node(f"ddes.{fn}({d})",
+                               f"yield node.{method}({d})    # or: yield ddes.{fn}(node, {d})",
+                               "(in the node's process, node.process(main()), or in a "
+                               "generator callback)")
+        raise DdesTypeError(f"ddes.{fn} needs a duration: yield node.{method}(0.5)")
+    clk = getattr(clock, "clock", clock)  # a node's clock, or the clock
+    if not isinstance(clk, Clock):
+        raise DdesTypeError(f"ddes.{fn}(node, duration) needs a node or a clock first, got "
+                            f"{clock!r}: yield node.{method}({arg_text(duration)})")
+    return clk
+
+
+def sleep(clock: Clock | ClockOwner, duration: DurationLike = REQUIRED) -> simpy.Event:
     """rospy.sleep: ``yield sleep(node, 0.5)`` or ``yield node.sleep(0.5)``."""
-    clk = clock.clock if hasattr(clock, "clock") else clock  # a node's clock, or the clock
+    clk = _clock_for("sleep", "sleep", clock, duration)
     return must_yield(sleep_ns(clk, duration_to_ns(duration)), "sleep(...)")
 
 
@@ -65,13 +83,13 @@ def _cpp_sim_sleep(clock: Clock, d_ns: int) -> Generator[simpy.Event, object, bo
     return bool(slept)
 
 
-def duration_sleep(clock: Clock | ClockOwner, duration: DurationLike) -> simpy.Event:
+def duration_sleep(clock: Clock | ClockOwner, duration: DurationLike = REQUIRED) -> simpy.Event:
     """roscpp ``Duration::sleep()``: the event's value is True if it slept.
 
     Under simulated time it is False when time jumped backwards or no sleep
     was needed at all, as roscpp reports.
     """
-    clk = clock.clock if hasattr(clock, "clock") else clock  # a node's clock, or the clock
+    clk = _clock_for("duration_sleep", "duration_sleep", clock, duration)
     d_ns = duration_to_ns(duration)
     if not clk.is_sim:
         return clk.env.timeout(d_ns if d_ns > 0 else 0, True)

@@ -87,10 +87,7 @@ def test_ping_all(chat: Console) -> None:
 
 
 @pytest.mark.parametrize("line, text", [
-    ("rosnode info /nope", "cannot contact [/nope]: unknown node"),
-    ("rosnode kill /nope /talker_1", "Unknown node(s): /nope"),
     ("rosnode kill", "give the node(s) to kill"),
-    ("rosnode ping -c 1 /nope", "cannot ping [/nope]: unknown node"),
     ("rosnode ping /talker_1", "runs until Ctrl+C"),
     ("rosnode info", "You must specify at least one node name"),
     ("rosnode frob", "unknown command 'rosnode frob'"),
