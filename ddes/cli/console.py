@@ -103,7 +103,8 @@ def _history_file() -> str | None:
 
 
 def main(args: argparse.Namespace) -> int:
-    """``ddes console [--script FILE] [--keep-going] [--seed N] [--no-core]``."""
+    """``ddes console [--script FILE] [--keep-going] [--seed N] [--no-core] [--rtf R]
+    [--until S]``."""
     from ddes.rospack import env_package_path
     from ddes.world import Console, World
 
@@ -111,7 +112,8 @@ def main(args: argparse.Namespace) -> int:
     interactive = lines is None and sys.stdin.isatty()
     # The one place the environment is read: when the command starts.
     world = World(seed=args.seed, package_path=env_package_path(os.environ))
-    console = Console(world, core=not args.no_core)
+    console = Console(world, core=not args.no_core,
+                      rtf=args.rtf if interactive else None, until=args.until)
 
     def write(text: str) -> None:
         sys.stdout.write(text + "\n")
@@ -153,6 +155,28 @@ def main(args: argparse.Namespace) -> int:
     return code
 
 
+def _rtf(text: str) -> float:
+    from ddes.errors import DdesError
+    from ddes.kernel.realtime import check_rtf
+
+    try:
+        return check_rtf(float(text))
+    except (ValueError, DdesError):
+        raise argparse.ArgumentTypeError(f"invalid real-time factor {text!r}: give a number > 0 "
+                                         "(1 = real time, 0.5 = half speed, inf = no pacing)") from None
+
+
+def _until(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value >= 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"invalid time limit {text!r}: give simulated seconds "
+                                         ">= 0, e.g. --until 30")
+    return value
+
+
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``ddes console`` to the ``ddes`` command."""
     p = sub.add_parser("console", help="interactive ROS console on a simulated roscore",
@@ -165,4 +189,10 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--seed", type=int, default=0, help="world seed (default 0)")
     p.add_argument("--no-core", action="store_true",
                    help="start without the /rosout node and roscore's parameters")
+    p.add_argument("--rtf", type=_rtf, default=1.0, metavar="FACTOR",
+                   help="interactive: real-time factor of foreground commands that run until "
+                        "Ctrl+C (default 1: one simulated second per second; inf: no pacing)")
+    p.add_argument("--until", type=_until, default=None, metavar="SECONDS",
+                   help="time limit (simulated seconds): foreground commands that run until "
+                        "Ctrl+C in ROS stop there (a script needs it for them)")
     p.set_defaults(func=main)

@@ -2,16 +2,20 @@
 
 * ``rosrun [--quiet] PKG NODE [args...]`` starts a node type of a package
   (``<pkg>/nodes.py``, see :mod:`ddes.nodes`) with a rosrun command line
-  (``chatter:=/talk``, ``_rate:=5``, ``__name:=t2``, ``__ns:=/r1``).  In ROS
-  it occupies a terminal until Ctrl+C; here the node runs in the world and
-  the prompt returns at once (``jobs`` lists it, ``kill %N`` or ``rosnode
-  kill`` stops it).  Its log lines print as it logs (``--quiet``: only
-  warnings and errors, as for a launch node without ``output="screen"``).
+  (``chatter:=/talk``, ``_rate:=5``, ``__name:=t2``, ``__ns:=/r1``).  As in
+  ROS it runs in the foreground until the node exits (``rosrun
+  roscpp_tutorials add_two_ints_client 20 22`` prints its sum and returns);
+  a node that never exits runs until Ctrl+C (interactive) or the script's
+  ``--until``, and with a trailing ``&`` it runs in the background
+  (``jobs`` lists it, ``kill %N`` or ``rosnode kill`` stops it).  Its log
+  lines print as it logs (``--quiet``: only warnings and errors, as for a
+  launch node without ``output="screen"``).
 * ``roslaunch [--duration S] PKG FILE.launch [arg:=value ...]`` or
   ``roslaunch PATH [arg:=value ...]`` runs a launch file
-  (:class:`ddes.launch.runtime.LaunchRunner`) in the background of the
-  world; with ``--duration`` it runs for S simulated seconds and shuts down
-  as on Ctrl+C.
+  (:class:`ddes.launch.runtime.LaunchRunner`) in the foreground until every
+  node has exited (or Ctrl+C / ``--until``), for S simulated seconds with
+  ``--duration`` (then it shuts down as on Ctrl+C), or in the background
+  with ``&``.
 * ``sleep SECONDS`` lets the world run (everything due up to and including
   that instant happens); ``time`` prints the simulated time.
 * ``jobs`` lists what runs in the background (bash's format); ``kill %N``
@@ -63,7 +67,8 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     """``rosrun [--quiet] PKG NODE [args...]``: start a node in the world (see module docstring)."""
     from ddes.nodes import start_node
 
-    args, _background = take_background(argv)
+    args, background = take_background(argv)
+    label = command_label("rosrun", args)
     quiet = False
     while args and args[0] in ("-q", "--quiet", "-h", "--help"):
         if args[0] in ("-h", "--help"):
@@ -96,12 +101,18 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
         raise ROSConsoleError(f"{pkg}/{node_type} died at start-up: {type(exc).__name__}: "
                               f"{exc}") from None
     router.levels[node.name] = level
-    task = Task(world, command_label("rosrun", argv))
+    task = Task(world, label)
     task.own(node)
     node.on_shutdown(lambda _reason: task.finish(0))
-    ctx.background(task.label, task)
+    if background:  # "[1] rosrun ..." first, as a shell prints "[1] PID" before the output
+        code = run_task(ctx, task, background=True, duration=None)
+        settle(world)
+        return code
     settle(world)
-    return 0
+    return run_task(ctx, task, background=False, duration=None,
+                    waiting_for=f"{node.name} to exit",
+                    hint=f"{node.name} runs until Ctrl+C in ROS; end the line with & to keep it "
+                         "running in the background (rosrun ... &)")
 
 
 def roslaunch(ctx: ToolContext, argv: list[str]) -> int:
@@ -144,15 +155,17 @@ def roslaunch(ctx: ToolContext, argv: list[str]) -> int:
     task = Task(world, command_label("roslaunch", args))
     task.on_stop(runner.shutdown)
     runner.finished.callbacks.append(lambda _ev: task.finish(0))
+    if background:  # "[1] roslaunch ..." first, as a shell prints "[1] PID" before the output
+        code = run_task(ctx, task, background=True, duration=duration)
+        runner.start()
+        settle(world)
+        return code
     runner.start()
     settle(world)
-    if duration is None:
-        if not task.done:
-            job = ctx.background(task.label, task)
-            if background:
-                ctx.print(f"[{job.id}] {task.label}")
-        return 0
-    return run_task(ctx, task, background=background, duration=duration, waiting_for=None)
+    return run_task(ctx, task, background=False, duration=duration,
+                    waiting_for="every node of the launch to exit",
+                    hint="a launch runs until Ctrl+C in ROS; give --duration SECONDS, or end "
+                         "the line with & to keep it running in the background")
 
 
 def sleep(ctx: ToolContext, argv: list[str]) -> int:

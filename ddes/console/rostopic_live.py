@@ -22,6 +22,7 @@ from ddes.console.toolkit import (
     ToolParser,
     add_run_options,
     command_label,
+    open_ended,
     parse_count,
     parse_duration,
     run_task,
@@ -205,8 +206,9 @@ def _wait_for_type(ctx: ToolContext, task: Task, topic: str,
 def _require_bound(tool: str, background: bool, duration: float | None, has_end: bool) -> None:
     if not (background or duration is not None or has_end):
         raise ROSConsoleError(
-            f"'{tool}' runs until Ctrl+C in ROS; in ddes give a count (-n), --duration SECONDS "
-            f"(simulated), or end the line with & to keep it running in the background")
+            f"'{tool}' runs until Ctrl+C in ROS and would never end here: give a count (-n), "
+            "--duration SECONDS (simulated), end the line with & to keep it running in the "
+            "background, or give the script a time limit (ddes console --until SECONDS)")
 
 
 def _check_known(world: World, topic: str, background: bool, duration: float | None) -> None:
@@ -257,9 +259,9 @@ def echo(ctx: ToolContext, argv: list[str]) -> int:
         if width < 2:
             parser.error("Fixed width for numeric values must be at least 2")
     duration = parse_duration(options.duration)
-    _require_bound("rostopic echo", background, duration, count is not None)
+    _require_bound("rostopic echo", background or open_ended(ctx), duration, count is not None)
     world = ctx.world
-    _check_known(world, topic, background, duration)
+    _check_known(world, topic, background or open_ended(ctx), duration)
     filter_fn = _filter_fn(options.filter_expr, topic)
     transform = value_transform_factory(options.nostr, options.noarr)
     task = Task(world, command_label("rostopic", ["echo", *argv]))
@@ -436,11 +438,11 @@ def hz(ctx: ToolContext, argv: list[str]) -> int:
         parser.error("window size must be an integer")
     reports = parse_count(options.count)
     duration = parse_duration(options.duration)
-    _require_bound("rostopic hz", background, duration, reports is not None)
+    _require_bound("rostopic hz", background or open_ended(ctx), duration, reports is not None)
     world = ctx.world
     topics = [script_resolve_name("rostopic", t) for t in args]
     for topic in topics:
-        _check_known(world, topic, background, duration)
+        _check_known(world, topic, background or open_ended(ctx), duration)
     task = Task(world, command_label("rostopic", ["hz", *argv]))
     node = task.own(world.create_node("rostopic", anonymous=True))
     stats = {t: TopicHz(window) for t in topics}
@@ -577,7 +579,7 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
         raise ROSTopicException(f"invalid message type: {topic_type}: {exc}") from None
     if not pub_args and len(msg_class.__slots__):
         parser.error("Please specify message values")
-    _require_bound("rostopic pub", background, duration, options.once or count is not None)
+    _require_bound("rostopic pub", background or open_ended(ctx), duration, options.once or count is not None)
     topic = script_resolve_name("rostopic", topic_name)
     latch = rate is None or options.latch
     task = Task(world, command_label("rostopic", ["pub", *argv]))

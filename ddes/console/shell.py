@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING, TextIO
 from ddes.console.tooling import CommandResult, ToolContext, find_tool, tool_names
 from ddes.errors import DdesError, ROSConsoleError
 from ddes.graph.world import World as GraphWorld
-from ddes.time.units import ns_to_sec
+from ddes.time.units import duration_to_ns, ns_to_sec
 
 if TYPE_CHECKING:
     from ddes.graph.world import World
@@ -63,7 +63,7 @@ __all__ = ["BUILTINS", "MAX_LINE", "Console", "interact", "run_script"]
 MAX_LINE = 64 * 1024
 
 #: Commands of the console itself (the tools come from TOOL_MODULES).
-BUILTINS = ("exit", "help", "quit")
+BUILTINS = ("exit", "help", "quit", "rtf")
 
 #: Sub-commands offered by tab completion, per tool (only for completion).
 _SUBCOMMANDS: dict[str, tuple[str, ...]] = {
@@ -82,10 +82,13 @@ _SUBCOMMANDS: dict[str, tuple[str, ...]] = {
 _HELP = """ddes console: ROS 1 tools on one simulated world (time stands still while you type).
 
 Commands: {commands}
-Console: help [COMMAND], exit (or Ctrl+D)
+Console: help [COMMAND], rtf [FACTOR|off], exit (or Ctrl+D)
 
-Long-running ROS commands take a count (-n N), --duration SECONDS (simulated),
-or a trailing & to run in the background ('jobs' lists them, 'kill %N' stops one).
+Commands that run until Ctrl+C in ROS (rosrun talker, roslaunch, rostopic echo)
+run in the foreground until they end: interactively paced at the real-time factor
+('rtf') until Ctrl+C, in a script up to its time limit (--until).  A count (-n N)
+or --duration SECONDS (simulated) bounds them; a trailing & runs them in the
+background ('jobs' lists them, 'kill %N' stops one).
 'sleep SECONDS' lets the world run; 'time' prints the simulated time.
 Type COMMAND -h for a command's options."""
 
@@ -121,12 +124,15 @@ class Console:
     def __init__(self, world: World | None = None, *, seed: int = 0,
                  rospack: RosPack | None = None, core: bool = True,
                  out: Callable[[str], None] = print,
-                 err: Callable[[str], None] | None = None) -> None:
+                 err: Callable[[str], None] | None = None,
+                 rtf: float | None = None, until: float | None = None) -> None:
         from ddes.launch.runtime import LogRouter, start_core
 
         self.world = world if world is not None else self.world_class(seed=seed)
         self.world.raise_callback_errors = False
         self.ctx = ToolContext(self.world, rospack, out=out, err=err or out)
+        self.rtf = rtf
+        self.until = until
         LogRouter(self.world, lambda line: self.ctx.print(line)).install()
         if core:
             start_core(self.world)
@@ -146,6 +152,7 @@ class Console:
                 ctx.eprint(f"ERROR: {too_long(line)}")
                 return 1
             try:
+                self.world.settle()  # what Python scheduled now (a process, a node) starts first
                 return self._command(line)
             except KeyboardInterrupt:  # Ctrl+C: the foreground command only
                 ctx.eprint(f"^C: stopped the foreground command '{_shown(line)}' (its nodes "
@@ -185,6 +192,8 @@ class Console:
         if argv[0] in ("exit", "quit"):
             return 0
         try:
+            if argv[0] == "rtf":
+                return self._rtf(argv[1:])
             return int(find_tool(argv[0])(ctx, argv[1:]))
         except DdesError as exc:
             ctx.eprint(f"ERROR: {_one_line(str(exc))}")
@@ -193,6 +202,41 @@ class Console:
             ctx.eprint(f"ERROR: {type(exc).__name__} raised while the world ran: "
                        f"{_one_line(str(exc))} (at t={ns_to_sec(self.world.now):.9f}s)")
             return 1
+
+    @property
+    def rtf(self) -> float | None:
+        """Real-time factor of foreground commands (None: unpaced); see the class docstring."""
+        return self.ctx.rtf
+
+    @rtf.setter
+    def rtf(self, value: float | None) -> None:
+        from ddes.kernel.realtime import check_rtf
+
+        self.ctx.rtf = None if value is None else check_rtf(value)
+
+    @property
+    def until(self) -> float | None:
+        """The session's simulated time limit in seconds (None: none)."""
+        return None if self.ctx.until_ns is None else ns_to_sec(self.ctx.until_ns)
+
+    @until.setter
+    def until(self, value: float | None) -> None:
+        self.ctx.until_ns = None if value is None else duration_to_ns(value, "until")
+
+    def _rtf(self, args: list[str]) -> int:
+        """``rtf [FACTOR|off]``: show or set the real-time factor of foreground commands."""
+        if len(args) > 1:
+            raise ROSConsoleError("rtf takes at most one argument: a factor (1 = real time) "
+                                  "or 'off'")
+        if args:
+            self.rtf = None if args[0] in ("off", "none") else _factor(args[0])
+        if self.rtf is None:
+            self.ctx.print("real-time factor: off (commands run as fast as possible; one that "
+                           "runs until Ctrl+C in ROS needs -n, --duration or &)")
+        else:
+            self.ctx.print(f"real-time factor: {self.rtf:g} (foreground commands run paced "
+                           "until they end or Ctrl+C)")
+        return 0
 
     def _help(self, args: list[str]) -> int:
         if args:
@@ -316,6 +360,16 @@ def _paths(prefix: str) -> list[str]:
         return []
     base = "" if folder == "." and not prefix.startswith("./") else folder.rstrip("/") + "/"
     return [base + n + ("/" if os.path.isdir(os.path.join(folder, n)) else "") for n in names]
+
+
+def _factor(text: str) -> float:
+    from ddes.kernel.realtime import check_rtf
+
+    try:
+        return check_rtf(float(text))
+    except (ValueError, DdesError):
+        raise ROSConsoleError(f"rtf: invalid real-time factor {text!r}: give a number > 0 "
+                              "(1 = real time, 0.5 = half speed) or 'off'") from None
 
 
 def too_long(line: str) -> str:

@@ -94,6 +94,12 @@ class ToolContext:
     jobs: list[Job] = field(default_factory=list)
     #: The console's working directory (``roscd`` changes it); None: the process's own.
     cwd: str | None = None
+    #: Real-time factor of foreground commands (interactive console: 1.0 by default);
+    #: None runs them as fast as possible (scripts, Python).
+    rtf: float | None = None
+    #: A script's simulated time limit (``ddes console --until S``), kernel nanoseconds:
+    #: foreground commands that ROS runs until Ctrl+C stop there; None: no limit.
+    until_ns: int | None = None
 
     def __post_init__(self) -> None:
         if self.rospack is None:
@@ -124,11 +130,11 @@ class ToolContext:
         world = self.world
         if timeout is not None:
             limit = world.env.timeout(max(0, duration_to_ns(timeout, "timeout")))
-            world.env.run(until=world.env.any_of([event, limit]))
+            world.run(world.env.any_of([event, limit]))
         else:
             if not event.triggered or not event.processed:
                 try:
-                    world.env.run(until=event)
+                    world.run(event)
                 except RuntimeError as exc:  # SimPy: no scheduled events left
                     raise ROSConsoleError(
                         f"the world has nothing left to do and the command is still waiting ({exc})"

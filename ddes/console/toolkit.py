@@ -26,6 +26,7 @@ import simpy
 from ddes.errors import ROSConsoleError
 from ddes.graph.names import resolve_name
 from ddes.launch.runtime import node_pid, node_uri
+from ddes.time.units import duration_to_ns
 
 if TYPE_CHECKING:
     from _typeshed import SupportsWrite
@@ -36,6 +37,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_WAIT_LIMIT",
+    "EXIT_INTERRUPTED",
     "HelpPrinted",
     "Task",
     "ToolParser",
@@ -43,6 +45,7 @@ __all__ = [
     "command_label",
     "job_alive",
     "job_stop",
+    "open_ended",
     "node_pid",
     "node_uri",
     "parse_count",
@@ -146,13 +149,7 @@ def script_resolve_name(script: str, name: str) -> str:
 
 def settle(world: World) -> None:
     """Process every event due at the current instant (nodes just started run their start-up)."""
-    env = world.env
-    now = env.now
-    for _ in range(1_000_000):
-        if env.peek() != now:
-            return
-        env.step()
-    raise ROSConsoleError("the world keeps scheduling events at the same instant (a zero-time loop?)")
+    world.settle()
 
 
 class Task:
@@ -244,42 +241,95 @@ def _defuse(ev: simpy.Event) -> None:
         ev.defused = True
 
 
-def run_task(ctx: ToolContext, task: Task, *, background: bool, duration: float | None,
-             waiting_for: str | None = None) -> int:
-    """Run ``task`` in the foreground (until it ends or ``duration``) or leave it in the background.
+#: Exit code of a foreground command stopped by Ctrl+C (128 + SIGINT, as a shell reports it).
+EXIT_INTERRUPTED = 130
 
-    ``waiting_for`` describes the count a foreground run waits for (for the
-    message when :data:`DEFAULT_WAIT_LIMIT` passes without it); ``None``
-    means the task has no end of its own, so a bound is required.
+
+def open_ended(ctx: ToolContext) -> bool:
+    """Whether a foreground command without a count or duration can run here: interactively
+    (until Ctrl+C) or in a script with a time limit (``--until``)."""
+    return ctx.rtf is not None or ctx.until_ns is not None
+
+
+def run_task(ctx: ToolContext, task: Task, *, background: bool, duration: float | None,
+             waiting_for: str | None = None, hint: str | None = None) -> int:
+    """Run ``task`` in the foreground, or leave it in the background; returns its exit code.
+
+    * Background (``&``): the task goes on while the user types; with
+      ``duration`` it stops itself that many simulated seconds later.
+    * Foreground, interactive (``ctx.rtf`` set): simulated time is paced at
+      ``ctx.rtf`` against the wall clock until the task ends, ``duration``
+      passes, or Ctrl+C (exit 130; the task stops as in ROS).
+    * Foreground, script or Python: until the task ends or ``duration``
+      passes; ``ctx.until_ns`` (``ddes console --until``) caps both.
+      ``waiting_for`` describes how the task ends by itself (a count, a node
+      exiting): without a duration or a script limit it may take
+      :data:`DEFAULT_WAIT_LIMIT` seconds, then it is an error.  ``None``
+      means it never ends by itself (``rostopic echo`` without ``-n``): with
+      no bound at all it is refused at once, saying what to add; ``hint``
+      replaces the default advice in that refusal.
     """
+    world = ctx.world
     if background:
         job = ctx.background(task.label, task)
+        if duration is not None:
+            world.post_ns(duration_to_ns(duration, "--duration"), None,
+                          lambda _ev: task.stop())
         ctx.print(f"[{job.id}] {task.label}")
         return 0
-    world = ctx.world
-    if duration is None and waiting_for is None:
-        task.stop()
-        cmd = task.label.split()[0:2]
-        raise ROSConsoleError(
-            f"'{' '.join(cmd)}' runs until Ctrl+C in ROS; in ddes give --duration SECONDS "
-            f"(simulated), or end the line with & to keep it running in the background"
-        )
-    limit = duration if duration is not None else DEFAULT_WAIT_LIMIT
-    deadline = world.timeout(limit)
+    deadline: int | None = None
+    if duration is not None:
+        deadline = world.now + duration_to_ns(duration, "--duration")
+    if ctx.until_ns is not None:
+        deadline = ctx.until_ns if deadline is None else min(deadline, ctx.until_ns)
+    default_limit = False
+    if deadline is None and ctx.rtf is None:
+        if waiting_for is None:
+            task.stop()
+            cmd = " ".join(task.label.split()[0:2])
+            raise ROSConsoleError(
+                f"'{cmd}' runs until Ctrl+C in ROS and would never end here: "
+                + (hint or "give --duration SECONDS (simulated)")
+                + ", end the line with & to keep it running in the background, or give the "
+                "script a time limit (ddes console --until SECONDS)"
+            )
+        deadline = world.now + duration_to_ns(DEFAULT_WAIT_LIMIT, "limit")
+        default_limit = True
     try:
-        ctx.run_until(world.env.any_of([task.finished, deadline]))
+        if not task.done:
+            ends = [task.finished]
+            if deadline is not None:
+                ends.append(world.env.timeout(max(0, deadline - world.now)))
+            until = world.env.any_of(ends)
+            if ctx.rtf is not None:
+                if _run_paced(ctx, until) == "stopped":
+                    task.stop()  # Ctrl+C: as ROS's SIGINT, the command's nodes shut down
+                    settle(world)
+                    return EXIT_INTERRUPTED
+            else:
+                ctx.run_until(until)
     except BaseException:
         task.stop()
         raise
     if task.done:
         return task.code
     task.stop()
-    if duration is None:
+    if default_limit:
         raise ROSConsoleError(
-            f"{task.label}: still waiting for {waiting_for} after {limit:g} simulated seconds; "
-            f"give --duration SECONDS to wait longer"
+            f"{task.label}: still waiting for {waiting_for} after {DEFAULT_WAIT_LIMIT:g} "
+            f"simulated seconds; " + (hint or "give --duration SECONDS to wait longer")
         )
     return task.code
+
+
+def _run_paced(ctx: ToolContext, until: simpy.Event) -> str:
+    """The interactive foreground: the world paced at ``ctx.rtf`` until ``until`` or Ctrl+C
+    (see :func:`ddes.kernel.realtime.run_paced`); returns its result."""
+    from ddes.kernel.realtime import InterruptFlag, run_paced
+
+    assert ctx.rtf is not None
+    with InterruptFlag() as interrupted:
+        return run_paced(ctx.world, until, rtf=ctx.rtf, stopped=interrupted)
 
 
 def command_label(tool: str, argv: Sequence[str]) -> str:

@@ -37,6 +37,7 @@ __all__ = [
     "NsEnvironment",
     "Posted",
     "ZeroTimeLivelock",
+    "disarm_stops",
     "is_pending",
     "never_yielded",
     "post",
@@ -198,3 +199,23 @@ def is_pending(event: Event) -> bool:
 def queued_events(env: simpy.Environment) -> int:
     """How many events wait in the kernel's queue (for diagnostics and budgets)."""
     return len(env._queue)
+
+
+def disarm_stops(env: simpy.Environment, until: Event | None = None) -> None:
+    """Remove the stop that an interrupted ``env.run(until=...)`` left behind.
+
+    ``run`` hangs SimPy's ``StopSimulation.callback`` on its ``until`` event
+    (or on an event it schedules at a numeric ``until``) and takes it off
+    only by reaching it.  A run left by an exception (Ctrl+C, a failing
+    callback) would otherwise stop some *later* run at that stale instant, or
+    raise ``StopSimulation`` out of a plain :meth:`NsEnvironment.step`.
+    """
+    stop = StopSimulation.callback
+    events = [entry[3] for entry in env._queue]
+    if until is not None:
+        events.append(until)
+    for event in events:
+        callbacks = event.callbacks
+        if callbacks is not None:
+            while stop in callbacks:
+                callbacks.remove(stop)

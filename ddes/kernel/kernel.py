@@ -14,7 +14,10 @@ Same-time order: see :mod:`ddes.kernel.events` and docs/determinism.md.
 
 ``run(until=...)`` processes every event scheduled strictly before the
 given instant, as SimPy does; so ``run(1 s)`` then ``run(2 s)`` is the same
-as ``run(2 s)``.
+as ``run(2 s)``.  A run to the current instant (``run_for(0)``) processes
+the events due now: what a process just started or scheduled with no delay
+(:meth:`Kernel.settle`).  :meth:`Kernel.run_through` includes the final
+instant.
 """
 
 from __future__ import annotations
@@ -29,7 +32,13 @@ from typing import TYPE_CHECKING, TypeVar
 import simpy
 
 from ddes.errors import DdesTypeError, DdesValueError, RunawayError, WorldError
-from ddes.kernel.events import DEFAULT_INSTANT_BUDGET, NsEnvironment, ZeroTimeLivelock, post
+from ddes.kernel.events import (
+    DEFAULT_INSTANT_BUDGET,
+    NsEnvironment,
+    ZeroTimeLivelock,
+    disarm_stops,
+    post,
+)
 from ddes.kernel.runaway import (
     DEFAULT_WALL_BUDGET,
     WallBudgetExceeded,
@@ -223,7 +232,11 @@ class Kernel:
             self.env.run()
             return
         if isinstance(until, simpy.Event):
-            self.env.run(until=until)
+            try:
+                self.env.run(until=until)
+            except BaseException:
+                disarm_stops(self.env, until)
+                raise
             return
         if isinstance(until, Duration):
             target = self.env.now + until.to_nsec()
@@ -235,8 +248,60 @@ class Kernel:
                 f"{self.env.now / 1e9:.9f}s (time never runs backwards)"
             )
         if target == self.env.now:
+            self._settle()
             return
-        self.env.run(until=target)
+        try:
+            self.env.run(until=target)
+        except BaseException:
+            disarm_stops(self.env)
+            raise
+
+    def settle(self) -> None:
+        """Process every event due at the current instant (time does not move).
+
+        A process started or an event scheduled with no delay runs now; the
+        instant budget still stops a zero-time livelock.
+        """
+        with Watchdog(self.env, self._wall_budget):
+            try:
+                self._settle()
+            except ZeroTimeLivelock as live:
+                raise RunawayError(describe_livelock(live, self.instant_budget)) from None
+            except WallBudgetExceeded as stop:
+                raise RunawayError(describe_runaway(stop, self.env.now_ns,
+                                                   self._wall_budget)) from None
+
+    def _settle(self) -> None:
+        env = self.env
+        now = env.now
+        while env.peek() == now:
+            env.step()
+
+    def run_through(self, t_ns: int, stop: simpy.Event | None = None) -> None:
+        """Run until ``t_ns`` (kernel nanoseconds, absolute) *including* the events due then.
+
+        ``run(until=t)`` stops before the events at ``t``; this processes them
+        too (what a paced, real-time run needs when it reaches an instant).
+        With ``stop``, the run ends as soon as that event has been processed,
+        as ``run(until=stop)`` would end.
+        """
+        env = self.env
+        if t_ns < env.now:
+            raise WorldError(
+                f"cannot run through {t_ns / 1e9:.9f}s: the world is already at "
+                f"{env.now / 1e9:.9f}s (time never runs backwards)"
+            )
+        with Watchdog(env, self._wall_budget):
+            try:
+                while (stop is None or not stop.processed) and env.peek() <= t_ns:
+                    env.step()
+                if env.now < t_ns and (stop is None or not stop.processed):
+                    env.run(until=t_ns)  # nothing is due before t_ns: only the clock moves
+            except ZeroTimeLivelock as live:
+                raise RunawayError(describe_livelock(live, self.instant_budget)) from None
+            except WallBudgetExceeded as stop_run:
+                raise RunawayError(describe_runaway(stop_run, env.now_ns,
+                                                   self._wall_budget)) from None
 
     def run_for(self, duration: DurationLike) -> None:
         """Run for a span (Duration or seconds) from now."""

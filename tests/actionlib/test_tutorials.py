@@ -124,7 +124,7 @@ def test_follow_path_rejects_an_empty_path(world: ddes.World) -> None:
 
 
 def test_rosrun_starts_the_tutorial_nodes(world: ddes.World) -> None:
-    run_command(world, "rosrun actionlib_tutorials fibonacci_server")
+    run_command(world, "rosrun actionlib_tutorials fibonacci_server &")
     world.run(until=0.5)
     assert "/fibonacci/goal" in run_command(world, "rostopic list").split()
 

@@ -15,7 +15,7 @@ def console() -> Console:
 
 @pytest.fixture
 def chat(console: Console) -> Console:
-    """The console after ``rosrun --quiet rospy_tutorials talker`` and ``listener --quiet``."""
-    console.run("rosrun --quiet rospy_tutorials talker")
-    console.run("rosrun --quiet rospy_tutorials listener")
+    """The console after ``rosrun --quiet rospy_tutorials talker &`` and ``listener --quiet``."""
+    console.run("rosrun --quiet rospy_tutorials talker &")
+    console.run("rosrun --quiet rospy_tutorials listener &")
     return console

@@ -13,8 +13,8 @@ from ddes.errors import ROSConsoleError
 
 LECTURE_1 = """\
 # lecture 1: a talker, a listener, and the console tools
-rosrun --quiet rospy_tutorials talker
-rosrun rospy_tutorials listener
+rosrun --quiet rospy_tutorials talker &
+rosrun rospy_tutorials listener &
 rosnode list
 rostopic list
 rostopic info /chatter
@@ -31,8 +31,10 @@ def test_transcript_is_identical_run_after_run() -> None:
     code2, text2 = Console(seed=0).transcript(LECTURE_1.splitlines())
     assert code1 == code2 == 0
     assert text1 == text2
-    assert text1.startswith("$ rosrun --quiet rospy_tutorials talker\n"
-                            "$ rosrun rospy_tutorials listener\n"
+    assert text1.startswith("$ rosrun --quiet rospy_tutorials talker &\n"
+                            "[1] rosrun --quiet rospy_tutorials talker\n"
+                            "$ rosrun rospy_tutorials listener &\n"
+                            "[2] rosrun rospy_tutorials listener\n"
                             "$ rosnode list\n/listener_2\n/rosout\n/talker_1\n")
     assert text1.endswith("$ time\nsimulated time: 4.200000000 s\n")
 
@@ -62,7 +64,7 @@ BAD_INPUTS = [
     ("rostopic echo -n 1 /no_topic", "topic [/no_topic] does not appear to be published yet"),
     ("rostopic info /no_topic", "Unknown topic /no_topic"),
     ("rostopic pub -1 /x no_pkg/NoType 1", "invalid message type: no_pkg/NoType"),
-    ("rosrun no_pkg talker", "package 'no_pkg' not found"),
+    ("rosrun no_pkg talker &", "package 'no_pkg' not found"),
     ("rosrun rospy_tutorials no_node", "Couldn't find executable named no_node"),
     ("roslaunch no_pkg x.launch", "[x.launch] is neither a launch file in package [no_pkg]"),
     ("roslaunch {bad_xml}", "bad.launch:2: <node pkg=\"rospy_tutorials\" name=\"t\">: <node> "
@@ -173,7 +175,7 @@ def test_failing_node_code_is_reported_and_the_console_goes_on(console: Console)
 
 
 def test_completion(console: Console) -> None:
-    console.run("rosrun --quiet rospy_tutorials talker")
+    console.run("rosrun --quiet rospy_tutorials talker &")
     assert console.complete("rost", "rost") == ["rostopic"]
     assert "rosrun" in console.complete("", "")
     assert console.complete("rostopic ", "") == ["bw", "delay", "echo", "find", "hz", "info",
@@ -201,7 +203,7 @@ def test_world_can_be_passed_in_and_log_lines_go_to_out() -> None:
     lines: list[str] = []
     console = Console(world, core=False, out=lines.append)
     assert console.run("rosnode list") == "\n"
-    console.run("rosrun rospy_tutorials talker")
+    console.run("rosrun rospy_tutorials talker &")
     world.run_for(0.15)  # the world run directly, outside any command
     assert lines == ["[INFO] [0.100000]: hello world 0.1"]
 

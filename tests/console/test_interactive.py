@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import fcntl
 import os
 import re
 import select
 import subprocess
 import sys
+import termios
 from pathlib import Path
 
 import pytest
@@ -16,17 +18,24 @@ pty = pytest.importorskip("pty")  # POSIX only; CI runs on Linux
 PROMPT = re.compile(rb"ddes \[(\d+\.\d{3})\] \$ ")
 
 
+def _controlling_terminal() -> None:
+    """In the child: a new session whose controlling terminal is the pty (so Ctrl+C is SIGINT)."""
+    os.setsid()
+    fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+
+
 class Terminal:
     """``ddes console`` on a pseudo-terminal, driven line by line."""
 
-    def __init__(self, home: Path) -> None:
+    def __init__(self, home: Path, *options: str) -> None:
         master, slave = pty.openpty()
         env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
         env.update({"HOME": str(home), "TERM": "dumb", "DDES_HISTORY": str(home / "hist"),
                     "INPUTRC": "/dev/null", "COLUMNS": "200"})
-        self.proc = subprocess.Popen([sys.executable, "-m", "ddes.cli.main", "console"],
+        self.proc = subprocess.Popen([sys.executable, "-m", "ddes.cli.main", "console",
+                                      *(options or ("--rtf", "inf"))],
                                      stdin=slave, stdout=slave, stderr=slave, env=env,
-                                     close_fds=True)
+                                     close_fds=True, preexec_fn=_controlling_terminal)
         os.close(slave)
         self.fd = master
         self.buffer = b""
@@ -77,10 +86,10 @@ def test_lecture_one_in_a_terminal(term: Terminal, tmp_path: Path) -> None:
     intro, t = term.read_until_prompt()
     assert "ddes console" in intro and t == "0.000"
 
-    out, t = term.command("rosrun --quiet rospy_tutorials talker")
-    assert (out, t) == ("", "0.000")  # time stands still while you type
-    out, _ = term.command("rosrun rospy_tutorials listener")
-    assert out == ""
+    out, t = term.command("rosrun --quiet rospy_tutorials talker &")
+    assert (out, t) == ("[1] rosrun --quiet rospy_tutorials talker\n", "0.000")
+    out, _ = term.command("rosrun rospy_tutorials listener &")
+    assert out == "[2] rosrun rospy_tutorials listener\n"
     out, _ = term.command("rosnode list")
     assert out == "/listener_2\n/rosout\n/talker_1\n"
     out, _ = term.command("rostopic list")
@@ -114,7 +123,7 @@ def test_lecture_one_in_a_terminal(term: Terminal, tmp_path: Path) -> None:
 
 def test_tab_completes_a_topic_name(term: Terminal) -> None:
     term.read_until_prompt()
-    term.command("rosrun --quiet rospy_tutorials talker")
+    term.command("rosrun --quiet rospy_tutorials talker &")
     os.write(term.fd, b"rostopic echo -n 1 /cha\t")
     os.write(term.fd, b"\n")
     text, _ = term.read_until_prompt()
@@ -125,3 +134,40 @@ def test_tab_completes_a_topic_name(term: Terminal) -> None:
     text, _ = term.read_until_prompt()
     assert "rosnode list" in text and "/talker_1\n" in text
     assert term.close() == 0
+
+
+def _read_until(term: Terminal, marker: bytes) -> None:
+    """Read the terminal's output until ``marker`` has appeared (kept in the buffer)."""
+    while marker not in term.buffer:
+        ready, _, _ = select.select([term.fd], [], [], 60)  # a safety net, not a timing check
+        if not ready:
+            raise AssertionError(f"{marker!r} never printed; output so far: {term.buffer!r}")
+        term.buffer += os.read(term.fd, 4096)
+
+
+def test_foreground_commands_run_paced_until_ctrl_c(tmp_path: Path) -> None:
+    """What ROS runs until Ctrl+C runs until Ctrl+C, paced; the prompt then shows the time."""
+    term = Terminal(tmp_path, "--rtf", "20")  # 20x real time: a simulated second in 50 ms
+    try:
+        term.read_until_prompt()
+        os.write(term.fd, b"rosrun rospy_tutorials talker\n")
+        _read_until(term, b"hello world 0.5")  # the talker logs as simulated time passes
+        os.write(term.fd, b"\x03")  # Ctrl+C: the foreground node shuts down, as in ROS
+        out, t = term.read_until_prompt()
+        assert "[INFO] [0.100000]: hello world 0.1\n" in out
+        assert float(t) >= 0.5
+        out, t2 = term.command("rosnode list")
+        assert out == "/rosout\n" and t2 == t  # the talker is gone; time stood still again
+        os.write(term.fd, b"rostopic echo /nobody\n")
+        _read_until(term, b"WARNING: topic [/nobody] does not appear to be published yet")
+        os.write(term.fd, b"\x03")  # an echo that never got a message still ends on Ctrl+C
+        out, t3 = term.read_until_prompt()
+        assert "Traceback" not in out and float(t3) >= float(t)
+        out, _ = term.command("rtf")
+        assert out == ("real-time factor: 20 (foreground commands run paced until they end or "
+                       "Ctrl+C)\n")
+        assert term.close() == 0
+    finally:
+        if term.proc.poll() is None:
+            term.proc.kill()
+            term.proc.wait()

@@ -66,8 +66,8 @@ def write(pkg: Path, name: str, xml: str) -> Path:
 
 
 def test_bundled_launch_with_include_remap_and_yaml(console: Console) -> None:
-    out = console.run("roslaunch rospy_tutorials param_talker.launch")
-    assert out.startswith("\nSUMMARY\n========\n\nPARAMETERS\n * /foo/gains/D: 3.0\n")
+    out = console.run("roslaunch rospy_tutorials param_talker.launch &")
+    assert out.startswith("[1] roslaunch rospy_tutorials param_talker.launch\n\nSUMMARY\n========\n\nPARAMETERS\n * /foo/gains/D: 3.0\n")
     assert "NODES\n  /\n    listener (roscpp_tutorials/listener)\n  /foo/\n" \
            "    param_talker (rospy_tutorials/param_talker)\n\n" in out
     assert ("ROS_MASTER_URI=http://localhost:11311\n\n"
@@ -98,7 +98,7 @@ def test_roslaunch_by_path_and_kill(console: Console) -> None:
     from ddes.rospack import BUNDLED_PATH
 
     path = BUNDLED_PATH / "rospy_tutorials" / "launch" / "talker_listener.launch"
-    console.run(f"roslaunch {path}")
+    console.run(f"roslaunch {path} &")
     assert console.run("rosnode list") == "/listener\n/rosout\n/talker\n"
     assert console.run("rosparam get /chatter/rate_hz") == "10\n"
     assert console.run("kill %1").endswith("done\n[1]  Terminated              "
@@ -127,7 +127,7 @@ def test_respawn_after_delay(con: Console, pkg: Path) -> None:
           </node>
         </launch>
         """)
-    con.run("roslaunch demo respawn.launch")
+    con.run("roslaunch demo respawn.launch &")
     out = con.run("sleep 1.6")
     pid = node_pid("/b")
     assert out == ("[b-1] process has finished cleanly\n"  # at 0.5 s
@@ -151,7 +151,7 @@ def test_required_node_shuts_the_launch_down(con: Console, pkg: Path) -> None:
           </node>
         </launch>
         """)
-    con.run("roslaunch demo req.launch")
+    con.run("roslaunch demo req.launch &")
     out = con.run("sleep 1")
     assert out == (
         "=" * 80 + "REQUIRED process [r-2] has died!\n"
@@ -171,11 +171,14 @@ def test_all_processes_died(con: Console, pkg: Path) -> None:
           <node pkg="demo" type="blink" name="x"><param name="life" value="0.1"/></node>
         </launch>
         """)
-    con.run("roslaunch demo short.launch")
-    assert con.run("sleep 0.2") == ("[x-1] process has finished cleanly\n"
-                                    "all processes on machine have died, roslaunch will exit\n"
-                                    "shutting down processing monitor...\n"
-                                    "... shutting down processing monitor complete\ndone\n")
+    # in the foreground, roslaunch returns when its last node has ended, as in ROS
+    out = con.run("roslaunch demo short.launch")
+    assert out.endswith("[x-1] process has finished cleanly\n"
+                        "all processes on machine have died, roslaunch will exit\n"
+                        "shutting down processing monitor...\n"
+                        "... shutting down processing monitor complete\ndone\n")
+    assert con.world.now == 100_000_000
+    assert con.run("jobs") == ""
 
 
 def test_start_up_failure_is_a_dead_process(con: Console, pkg: Path) -> None:
@@ -185,7 +188,7 @@ def test_start_up_failure_is_a_dead_process(con: Console, pkg: Path) -> None:
           <node pkg="demo" type="broken" name="x"/>
         </launch>
         """)
-    out = con.run("roslaunch demo broken.launch")
+    out = con.run("roslaunch demo broken.launch &")
     assert "RuntimeError: cannot start\n[x-2] process has died [pid " in out
     assert con.run("rosnode list") == "/rosout\n/s\n"
 

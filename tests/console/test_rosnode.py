@@ -18,7 +18,7 @@ def test_list_variants(chat: Console) -> None:
     assert chat.run("rosnode list -u") == "".join(
         node_uri(n) + "\n" for n in ("/listener_2", "/rosout", "/talker_1"))
     assert chat.run("rosnode list -a").splitlines()[1] == f"{node_uri('/rosout')} \t/rosout"
-    chat.run("rosrun --quiet rospy_tutorials talker __ns:=/robot")
+    chat.run("rosrun --quiet rospy_tutorials talker __ns:=/robot &")
     assert chat.run("rosnode list /robot") == "/robot/talker_3\n"
 
 

@@ -8,8 +8,9 @@ from ddes.console.shell import Console
 
 
 def test_rospy_talker_and_listener_log_as_rospy(console: Console) -> None:
-    assert console.run("rosrun rospy_tutorials talker") == "[INFO] [0.000000]: hello world 0.0\n"
-    assert console.run("rosrun rospy_tutorials listener") == ""
+    assert console.run("rosrun rospy_tutorials talker &") == (
+        "[1] rosrun rospy_tutorials talker\n[INFO] [0.000000]: hello world 0.0\n")
+    assert console.run("rosrun rospy_tutorials listener &") == "[2] rosrun rospy_tutorials listener\n"
     assert console.run("sleep 0.2") == (
         "[INFO] [0.100000]: hello world 0.1\n"
         "[INFO] [0.100000]: /listener_2I heard hello world 0.1\n"
@@ -19,8 +20,9 @@ def test_rospy_talker_and_listener_log_as_rospy(console: Console) -> None:
 
 
 def test_roscpp_talker_and_listener_log_as_roscpp(console: Console) -> None:
-    console.run("rosrun roscpp_tutorials listener")
-    assert console.run("rosrun roscpp_tutorials talker") == "[ INFO] [0.000000000]: hello world 0\n"
+    console.run("rosrun roscpp_tutorials listener &")
+    assert console.run("rosrun roscpp_tutorials talker &") == (
+        "[2] rosrun roscpp_tutorials talker\n[ INFO] [0.000000000]: hello world 0\n")
     assert console.run("sleep 0.1") == (
         "[ INFO] [0.100000000]: hello world 1\n"
         "[ INFO] [0.100000000]: I heard: [hello world 1]\n"
@@ -29,17 +31,17 @@ def test_roscpp_talker_and_listener_log_as_roscpp(console: Console) -> None:
 
 
 def test_rosrun_arguments_rename_and_remap(console: Console) -> None:
-    console.run("rosrun --quiet rospy_tutorials talker __name:=speaker chatter:=/talk _rate:=5")
+    console.run("rosrun --quiet rospy_tutorials talker __name:=speaker chatter:=/talk _rate:=5 &")
     console.run("sleep 0.01")
     assert console.run("rosnode list") == "/rosout\n/speaker\n"
     assert "/talk\n" in console.run("rostopic list")
     assert console.run("rosparam get /speaker/rate") == "5\n"
-    console.run("rosrun --quiet rospy_tutorials talker.py __ns:=/robot")
+    console.run("rosrun --quiet rospy_tutorials talker.py __ns:=/robot &")
     assert "/robot/talker_1\n" in console.run("rosnode list")
 
 
 def test_quiet_hides_info_but_not_warnings(console: Console) -> None:
-    console.run("rosrun --quiet rospy_tutorials talker")
+    console.run("rosrun --quiet rospy_tutorials talker &")
     assert console.run("sleep 1") == ""
 
 
@@ -54,7 +56,7 @@ def test_sleep_is_inclusive_and_time(console: Console) -> None:
 
 
 def test_jobs_and_kill(console: Console) -> None:
-    console.run("rosrun --quiet rospy_tutorials talker")
+    console.run("rosrun --quiet rospy_tutorials talker &")
     console.run("rostopic hz /chatter &")
     assert console.run("jobs") == (
         "[1]  Running                 rosrun --quiet rospy_tutorials talker &\n"
@@ -74,10 +76,10 @@ def test_finished_background_job_is_reported_once(console: Console) -> None:
 
 
 @pytest.mark.parametrize("line, text", [
-    ("rosrun no_such_pkg talker", "package 'no_such_pkg' not found"),
+    ("rosrun no_such_pkg talker &", "package 'no_such_pkg' not found"),
     ("rosrun rospy_tutorials no_such_node", "Couldn't find executable named no_such_node"),
     ("rosrun rospy_tutorials", "rosrun needs a package and a node type"),
-    ("rosrun rospy_tutorials talker a:=b:=c", "':='"),
+    ("rosrun rospy_tutorials talker a:=b:=c &", "':='"),
     ("sleep", "sleep needs one argument"),
     ("sleep soon", "invalid time interval 'soon'"),
     ("sleep -1", "invalid time interval '-1'"),
@@ -119,7 +121,7 @@ def test_foreign_background_processes_are_jobs(console: Console) -> None:
 
 def test_log_router_without_a_trace(console: Console) -> None:
     console.world.trace.enabled = False
-    console.run("rosrun --quiet rospy_tutorials talker")
+    console.run("rosrun --quiet rospy_tutorials talker &")
     # without the trace the router cannot tell nodes apart: everything prints
     assert console.run("sleep 0.1") == "[INFO] [0.100000]: hello world 0.1\n"
 

@@ -124,7 +124,7 @@ def test_echo_needs_a_bound(chat: Console) -> None:
 def test_echo_duration_on_a_topic_that_appears(console: Console) -> None:
     result = console.execute("rostopic echo --duration 0.35 /chatter &")
     assert result.err == "WARNING: topic [/chatter] does not appear to be published yet\n"
-    console.run("rosrun --quiet rospy_tutorials talker")
+    console.run("rosrun --quiet rospy_tutorials talker &")
     out = console.run("sleep 0.35")
     assert out.count("---") >= 2 and 'data: "hello world 0.2"' in out
 
@@ -159,7 +159,7 @@ def test_echo_in_the_background_and_kill(chat: Console) -> None:
 
 
 def test_echo_waits_at_most_the_default_limit(console: Console) -> None:
-    console.run("rosrun --quiet rospy_tutorials listener")
+    console.run("rosrun --quiet rospy_tutorials listener &")
     result = console.execute("rostopic echo -n 1 /chatter")
     assert result.code == 1 and "still waiting for 1 messages after 600" in result.err
     assert console.world.now == 600_000_000_000
@@ -250,7 +250,7 @@ def test_pub_substitutes_now(console: Console) -> None:
     ("rostopic pub -1 /x std_msgs/Int32 1 2", "Too many arguments"),
     ("rostopic pub /x std_msgs/Int32 1", "runs until Ctrl+C in ROS"),
     ("rostopic pub -n 2 /x std_msgs/Int32 1", "-n COUNT needs -r RATE"),
-    ("rostopic bw /rosout", "rostopic bw is not offered by ddes"),
+    ("rostopic delay /rosout", "rostopic delay is not offered by ddes"),
     ("rostopic frob", "unknown command 'rostopic frob'"),
     ("rostopic echo", "topic must be specified"),
     ("rostopic echo -n x /rosout", "COUNT must be an integer"),

@@ -17,7 +17,7 @@ L = 100_000
 
 @pytest.fixture
 def lecture(world: ddes.World) -> ddes.World:
-    """The lecture 4 setup: ``rosrun roscpp_tutorials add_two_ints_server``."""
+    """The lecture 4 setup: ``rosrun roscpp_tutorials add_two_ints_server &``."""
     start_node(world, "roscpp_tutorials", "add_two_ints_server")
     return world
 
