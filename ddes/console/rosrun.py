@@ -103,7 +103,7 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     router.levels[node.name] = level
     task = Task(world, label)
     task.own(node)
-    node.on_shutdown(lambda _reason: task.finish(0))
+    node.on_shutdown(lambda _reason: task.finish(_exit_code(world, node.name)))
     if background:  # "[1] rosrun ..." first, as a shell prints "[1] PID" before the output
         code = run_task(ctx, task, background=True, duration=None)
         settle(world)
@@ -113,6 +113,17 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
                     waiting_for=f"{node.name} to exit",
                     hint=f"{node.name} runs until Ctrl+C in ROS; end the line with & to keep it "
                          "running in the background (rosrun ... &)")
+
+
+def _exit_code(world: World, name: str) -> int:
+    """The exit code a node that ends now leaves (its main's return value, 1 if it died), as
+    rosrun returns its process's."""
+    now = world.now
+    for ev in reversed(world.trace.filter(kind="node.exit", source=name)):
+        if ev.t == now:
+            return int(ev.details.get("code", 0) or 0)
+        break
+    return 0
 
 
 def roslaunch(ctx: ToolContext, argv: list[str]) -> int:
