@@ -15,6 +15,9 @@ Output follows ros_comm ``tools/rostopic/src/rostopic/__init__.py``:
 * ``hz`` prints ``subscribed to [/t]`` and, once per simulated second,
   ``average rate: %.3f`` and ``\\tmin: %.3fs max: %.3fs std dev: %.5fs
   window: N`` (or ``no new messages``);
+* ``bw`` prints ``subscribed to [/t]`` and, once per simulated second,
+  ``average: 1.23KB/s`` and ``\\tmean: ... min: ... max: ... window: N``
+  (:mod:`ddes.console.rostopic_bw`);
 * ``pub`` publishes one latched message (``-1``: kept 3 s, then exits) or
   repeats at ``-r HZ``.
 
@@ -23,7 +26,7 @@ and ``pub -r``, reports for hz) or ``--duration S`` (simulated seconds), or
 run in the background of the world (``&``); see :mod:`ddes.console.toolkit`.
 A topic nobody publishes or subscribes is an error for a foreground
 ``echo``/``hz`` without ``--duration`` (ROS would wait for ever); with one,
-the ROS warning prints and the tool waits, as ROS does.  ``bw``, ``delay``,
+the ROS warning prints and the tool waits, as ROS does.  ``delay``,
 ``echo -b``, ``echo -p`` and ``pub -f`` are not offered.
 """
 
@@ -358,10 +361,16 @@ def _live(name: str) -> Callable[[ToolContext, list[str]], int]:
     return tool
 
 
+def _bw(ctx: ToolContext, argv: list[str]) -> int:
+    from ddes.console.rostopic_bw import bw
+
+    return bw(ctx, argv)
+
+
 _COMMANDS: dict[str, Callable[[ToolContext, list[str]], int]] = {
     "echo": _live("echo"), "find": _find, "hz": _live("hz"), "info": _info, "list": _list,
     "pub": _live("pub"),
-    "type": _type, "bw": _unsupported("bw"), "delay": _unsupported("delay"),
+    "type": _type, "bw": _bw, "delay": _unsupported("delay"),
 }
 
 
