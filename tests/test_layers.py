@@ -3,8 +3,8 @@
 Each module may import only modules of its own package and of lower layers;
 peers in one layer never import each other.  Every import counts: module
 level, inside functions, and under ``if TYPE_CHECKING:``.  The file-format
-half of ``ddes.rosbag`` may use only errors, time, rospack and msg, so bags
-can be read without a world.
+half of ``ddes.rosbag`` may use only errors, expr, display, time, rospack and
+msg, so bags can be read without a world.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ ROOT = REPO / "ddes" if (REPO / "ddes" / "__init__.py").is_file() else Path(ddes
 #: Bottom to top.  A group of several names is one layer of peers.
 LAYERS: list[tuple[str, ...]] = [
     ("errors", "_version"),
-    ("expr",),
+    ("expr", "display"),
     ("time",),
     ("kernel",),
     ("rospack",),
@@ -45,7 +45,8 @@ SAME_ROOM = {"packages": "nodes"}
 
 #: rosbag's file-format modules: readable without a world.
 ROSBAG_FORMAT = {"bag", "bagfile", "records", "info", "mcapfile", "ops"}
-ROSBAG_FORMAT_MAY_USE = {"errors", "_version", "expr", "time", "rospack", "msg", "rosbag"}
+ROSBAG_FORMAT_MAY_USE = {"errors", "_version", "expr", "display", "time", "rospack", "msg",
+                         "rosbag"}
 
 RANK = {name: i for i, group in enumerate(LAYERS) for name in group}
 
