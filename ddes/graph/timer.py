@@ -35,7 +35,7 @@ single-threaded node a generator timer callback holds the spinner.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 from ddes.errors import DdesTypeError, DdesValueError
 from ddes.kernel.events import post
@@ -131,7 +131,7 @@ def _ns_or_none(t: Time | int | None) -> int | None:
 
 
 def _no_node(node: object, period: object, callback: object, oneshot: bool,
-             reset: bool) -> None:
+             reset: bool) -> NoReturn:
     """``ddes.Timer(rospy.Duration(1), cb)``, rospy's spelling: say what to write instead."""
     if callable(period) and not callable(callback):
         if callback is not REQUIRED:  # rospy.Timer(period, cb, oneshot, reset): all shifted
