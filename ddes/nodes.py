@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -155,10 +156,17 @@ def print_line(node: Node, text: str, *, stderr: bool = False) -> None:
     It reaches the world's console (``world.log_output``) as the node's own output: a launch
     node without ``output="screen"`` shows only its standard error, as roslaunch sends standard
     output to the log file; ``rosrun --quiet`` likewise.  Standard output counts as INFO and
-    standard error as ERROR for that choice.  With no console (``log_output`` None) nothing prints.
+    standard error as ERROR for that choice.  With no console (``log_output`` None or True) the
+    line goes to the process's own standard output (or error), as the program's print would;
+    ``log_output = False`` prints nothing.
     """
     sink = node.world.log_output
-    if sink is None:
+    if sink is False:
+        return
+    if sink is None or sink is True:
+        stream = sys.stderr if stderr else sys.stdout
+        stream.write(text + "\n")
+        stream.flush()
         return
     level = ERROR if stderr else INFO
     # A LogRouter (ddes.launch.runtime, a layer above) routes by node: ask it for this node's

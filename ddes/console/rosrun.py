@@ -92,7 +92,8 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     before = set(world.nodes)
     try:
         with router.starting(level):
-            node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest, name=name)
+            node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest, name=name,
+                              cwd=ctx.cwd)
     except DdesError:
         raise
     except Exception as exc:  # noqa: BLE001 - the node's own start-up code failed

@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING, Protocol
 import simpy
 
 from ddes.errors import DdesValueError
-from ddes.graph.failures import print_to_stderr, user_traceback
+from ddes.graph.failures import user_traceback
 
 if TYPE_CHECKING:
     from simpy.events import ProcessGenerator
@@ -270,9 +270,6 @@ class CallbackQueue:
             world.note_failure(exc)
             raise exc
         node.logerr("bad callback: %s\n%s", name, user_traceback(exc))
-        if world.log_output is None:
-            print_to_stderr(f"[ERROR] [{node.name}]: bad callback: {name}\n"
-                            + "".join(traceback.format_exception(exc)).rstrip("\n"))
 
     def close(self) -> None:
         """The node shut down: queued callbacks are dropped, nothing new runs."""

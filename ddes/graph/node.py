@@ -257,9 +257,11 @@ class Node:
             self.shutdown(msg)
             return
         self.shutdown(f"external shutdown request from [{caller_id}]: [{msg}]")
-        out = self.world.log_output
-        if out is not None:  # printed last, so the trace's latest event is this node's
-            out(f"shutdown request: {msg}" if msg else "shutdown requst", INFO)  # rospy's typo
+        from ddes.graph.rosout import emit_line
+
+        # printed last, so the trace's latest event is this node's; "requst" is rospy's typo
+        line = f"shutdown request: {msg}" if msg else "shutdown requst"
+        emit_line(self, INFO, line, line)
 
     def spin(self) -> simpy.Event:
         """Event that fires when the node shuts down (``yield node.spin()``)."""
@@ -312,13 +314,11 @@ class Node:
 
         Records ``node.exit`` with ``code=1``; the other nodes keep running.
         """
-        from ddes.graph.failures import print_to_stderr, user_traceback
+        from ddes.graph.failures import user_traceback
 
         text = (f"process has died: the main of {self.name} raised {type(exc).__name__}; "
                 f"the node shuts down\n{user_traceback(exc)}")
         self.logerr("%s", text)
-        if self.world.log_output is None:
-            print_to_stderr(f"[ERROR] [{self.name}]: {text}")
         self.world.record("node.exit", self.name, code=1, error=f"{type(exc).__name__}: {exc}")
         self.shutdown(f"main raised {type(exc).__name__}: {exc}")
 

@@ -8,7 +8,22 @@ Each log call (when its level is enabled for the node):
   published topics), as rospy does;
 * prints the line as rospy formats it, ``[INFO] [12.500000]: text`` (the
   time is the kernel ("wall") time, followed by the ROS time for nodes on
-  simulated time), if the world has a console (``world.log_output``).
+  simulated time; roscpp-style nodes print ``[ INFO] [12.500000000]: text``);
+* hands a :class:`logging.LogRecord` to the standard :mod:`logging` module,
+  on the logger ``ddes.node`` + the node's name with ``/`` as ``.``
+  (``/robot/talker`` logs on ``ddes.node.robot.talker``), so ``caplog``,
+  handlers and levels work as for any Python library.
+
+Where the line prints (:func:`emit_line`): a callable ``world.log_output``
+(the console, ``ddes run``) receives it; with ``log_output`` None (the
+default) or True, the handler ddes puts on the ``ddes.node`` logger
+(:class:`RosStreamHandler`) prints it as rospy does, DEBUG and INFO on
+standard output, WARN and above on standard error; ``log_output = False``
+prints nothing.  The record reaches the ``logging`` module in every case
+(``record.ddes_line`` is the printed line, ``record.ddes_t_ns`` the kernel
+time, ``record.ddes_node`` the node).  The ``ddes.node`` logger's level is
+DEBUG, so the node's own level (``set_logger_level``) decides what is
+logged; raise the logger's level, or remove the handler, to silence lines.
 
 ``*_throttle(period, msg)`` logs at most once per ``period`` of the node's
 ROS time per call site; ``*_once`` logs once per call site (rospy keys both
@@ -17,8 +32,8 @@ by the caller's file and line).
 
 from __future__ import annotations
 
+import logging
 import sys
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from ddes.errors import DdesValueError
@@ -29,13 +44,83 @@ if TYPE_CHECKING:
     from ddes.msg.message import Message
     from ddes.time.units import DurationLike
 
-__all__ = ["DEBUG", "ERROR", "FATAL", "INFO", "LEVEL_NAMES", "WARN", "NodeLogger", "format_line",
-           "format_line_roscpp"]
+__all__ = ["DEBUG", "ERROR", "FATAL", "INFO", "LEVEL_NAMES", "LOGGER", "PYTHON_LEVELS", "WARN",
+           "NodeLogger", "RosStreamHandler", "emit_line", "format_line", "format_line_roscpp",
+           "logger_name"]
 
 DEBUG, INFO, WARN, ERROR, FATAL = 1, 2, 4, 8, 16
 LEVEL_NAMES = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
 _BY_NAME = {"debug": DEBUG, "info": INFO, "warn": WARN, "warning": WARN, "error": ERROR,
             "fatal": FATAL}
+
+
+#: The parent of every node's logger (``logging.getLogger("ddes.node")``).
+LOGGER = "ddes.node"
+
+#: ROS levels as :mod:`logging` levels (FATAL is CRITICAL).
+PYTHON_LEVELS = {DEBUG: logging.DEBUG, INFO: logging.INFO, WARN: logging.WARNING,
+                 ERROR: logging.ERROR, FATAL: logging.CRITICAL}
+
+
+def logger_name(node_name: str) -> str:
+    """The :mod:`logging` logger of a node: ``/robot/talker`` -> ``ddes.node.robot.talker``."""
+    return LOGGER + node_name.replace("/", ".").rstrip(".")
+
+
+class RosStreamHandler(logging.Handler):
+    """Prints a node's line as rospy does (below WARN on stdout, else stderr), unless the world's
+    ``log_output`` already printed it (or is False).
+
+    ``sys.stdout``/``sys.stderr`` are looked up at each line, so redirections (pytest's capsys,
+    ``contextlib.redirect_stdout``) see it.
+    """
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if getattr(record, "ddes_printed", False):
+            return
+        line = getattr(record, "ddes_line", None)
+        if line is None:
+            line = self.format(record)
+        stream = sys.stderr if record.levelno >= logging.WARNING else sys.stdout
+        try:
+            stream.write(line + "\n")
+            stream.flush()
+        except BrokenPipeError:
+            raise
+        except Exception:  # noqa: BLE001 - logging's own policy for a failing handler
+            self.handleError(record)
+
+
+def _parent_logger() -> logging.Logger:
+    """``ddes.node``, with its :class:`RosStreamHandler` and level DEBUG on first use."""
+    parent = logging.getLogger(LOGGER)
+    if not any(isinstance(h, RosStreamHandler) for h in parent.handlers):
+        parent.addHandler(RosStreamHandler())
+        if parent.level == logging.NOTSET:
+            parent.setLevel(logging.DEBUG)
+    return parent
+
+
+def emit_line(node: Node, level: int, text: str, line: str, *, where: tuple[str, int, str] |
+              None = None) -> None:
+    """Print ``line`` (the formatted ``text`` of ``node`` at ROS ``level``) where the world's
+    ``log_output`` says, and hand it to :mod:`logging` (see the module docstring)."""
+    world = node.world
+    out = world.log_output
+    printed = out is False
+    if callable(out):
+        out(line, level)
+        printed = True
+    _parent_logger()
+    logger = logging.getLogger(logger_name(node.name))
+    py_level = PYTHON_LEVELS.get(level, logging.INFO)
+    if not logger.isEnabledFor(py_level):
+        return
+    fn, lno, func = where if where is not None else ("", 0, "")
+    record = logger.makeRecord(logger.name, py_level, fn, lno, text, (), None, func,
+                               extra={"ddes_line": line, "ddes_printed": printed,
+                                      "ddes_node": node.name, "ddes_t_ns": world.env.now})
+    logger.handle(record)
 
 
 def level_from(value: str | int) -> int:
@@ -121,11 +206,11 @@ class NodeLogger:
             m.line = frame.f_lineno
             m.topics = [p.resolved_name for p in node._published]
             self._pub.publish(m)
-        out: Callable[[str, int], object] | None = world.log_output
-        if out is not None:
-            if self.style == "roscpp":
-                out(format_line_roscpp(level, text, node.clock.now_ns()), level)
-            else:
-                wall = world.env.now / 1e9
-                ros = node.get_time() if node.use_sim_time else None
-                out(format_line(level, text, wall, ros), level)
+        if self.style == "roscpp":
+            line = format_line_roscpp(level, text, node.clock.now_ns())
+        else:
+            wall = world.env.now / 1e9
+            ros = node.get_time() if node.use_sim_time else None
+            line = format_line(level, text, wall, ros)
+        emit_line(node, level, text, line,
+                  where=(frame.f_code.co_filename, frame.f_lineno, frame.f_code.co_name))

@@ -128,7 +128,7 @@ class World(Kernel):
         #: Messages published before it exists are not delivered (as in ROS).
         self.connect_delay_ns: int = 1_000_000
         #: Where log lines are printed: ``fn(line, level)``, or None (trace only).
-        self.log_output: Callable[[str, int], object] | None = None
+        self.log_output: Callable[[str, int], object] | bool | None = None
         self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
         #: The world's master: registry of nodes, topics, services, and the parameters.
         self.master = Master(self)
@@ -295,3 +295,50 @@ class World(Kernel):
 
     def __repr__(self) -> str:
         return f"<World seed={self.seed} t={self.env.now / 1e9:.9f}s nodes={len(self._nodes)}>"
+
+    #: Trace length up to which the notebook view computes the digest (it reads every event).
+    HTML_DIGEST_LIMIT: ClassVar[int] = 200_000
+
+    def _repr_html_(self) -> str:
+        """The world as HTML tables for notebooks: seed, time, nodes, topics, services,
+        parameter count, trace length and digest prefix (every value escaped)."""
+        from ddes.display.tables import MAX_ROWS, html_table, key_value_table
+        from ddes.errors import DigestError
+
+        trace = self.trace
+        if len(trace) > self.HTML_DIGEST_LIMIT:
+            digest = f"not computed for {len(trace)} events (world.digest())"
+        else:
+            try:
+                digest = trace.digest()[:16] + "…"
+            except DigestError:
+                digest = "none: the trace does not hold every event"
+        names = sorted(self._nodes)
+        shown = ", ".join(names[:MAX_ROWS]) + (f", … {len(names) - MAX_ROWS} more"
+                                                if len(names) > MAX_ROWS else "")
+        counted = sum(trace.counted_only.values())
+        topics = [e for e in self.master.topics.values() if e.publishers or e.subscribers]
+        services = list(self.master.services.values())
+        summary = key_value_table([
+            ("seed", self.seed),
+            ("time", f"{self.env.now / 1e9:.9f} s"),
+            ("nodes", f"{len(names)}: {shown}" if names else "0"),
+            ("topics", len(topics)),
+            ("services", len(services)),
+            ("parameters", len(self.params.get_param_names())),
+            ("trace", f"{len(trace)} events" + (f" (+{counted} counted only)" if counted else "")),
+            ("digest", digest),
+        ], caption=type(self).__name__)
+        out = [summary]
+        if topics:
+            out.append(html_table(
+                ("topic", "type", "publishers", "subscribers"),
+                ((e.name, e.type, ", ".join(e.publisher_nodes()), ", ".join(e.subscriber_nodes()))
+                 for e in sorted(topics, key=lambda e: e.name)),
+                caption="topics", mono=(0, 1)))
+        if services:
+            out.append(html_table(
+                ("service", "type", "node"),
+                ((e.name, e.type, e.node.name) for e in sorted(services, key=lambda e: e.name)),
+                caption="services", mono=(0, 1)))
+        return "".join(out)
