@@ -30,9 +30,6 @@ service whose request has fields is a usage error, as ROS says on a terminal.
 
 from __future__ import annotations
 
-import argparse
-import contextlib
-import io
 import optparse
 import os
 from typing import TYPE_CHECKING, Any, NoReturn
@@ -356,25 +353,11 @@ def rosservice(ctx: ToolContext, argv: list[str]) -> int:
 
 
 def rossrv(ctx: ToolContext, argv: list[str]) -> int:
-    """``rossrv show|info|md5|list|package|packages`` (the one-shot tool, in the console)."""
-    from ddes.console.rosmsg import register
+    """``rossrv show|info|md5|list|package|packages`` on the world's service types (the console's
+    ``rosmsg`` twin, :func:`ddes.console.rosmsg.rossrv`)."""
+    from ddes.console.rosmsg import rossrv as rossrv_tool
 
-    parser = argparse.ArgumentParser(prog="ddes", add_help=False)
-    register(parser.add_subparsers(dest="tool"))
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            args = parser.parse_args(["rossrv", *argv])
-            code = int(args.func(args))
-        except SystemExit as stop:
-            code = stop.code if isinstance(stop.code, int) else 1
-    for text, sink in ((out.getvalue(), ctx.print), (err.getvalue(), ctx.eprint)):
-        lines = text.split("\n")
-        if lines[-1] == "":
-            lines.pop()  # the text ends with a newline: no extra empty line
-        for line in lines:
-            sink(line)
-    return code
+    return rossrv_tool(ctx, argv)
 
 
 TOOLS = {"rosservice": rosservice, "rossrv": rossrv}
