@@ -18,7 +18,7 @@ __all__ = ["MAX_ROWS", "html_table", "html_text", "key_value_table"]
 MAX_ROWS = 50
 
 _TABLE = '<table class="ddes" style="border-collapse:collapse;text-align:left">'
-_CELL = 'style="text-align:left;vertical-align:top;padding:1px 8px"'
+_CELL = 'style="text-align:left;vertical-align:top"'
 
 
 def html_text(value: object) -> str:

@@ -181,6 +181,30 @@ class TraceSelection(list[TraceEvent]):
             rows.append(row)
         return rows
 
+    @staticmethod
+    def _html(events: Iterable[TraceEvent], total: int, caption: str) -> str:
+        """Rows t [s], kind, source, details of the first events (at most 50), escaped."""
+        from ddes.display.tables import MAX_ROWS, html_table
+
+        def details(ev: TraceEvent) -> str:
+            text = " ".join(
+                f"{k}={v if isinstance(v, (int, float, str)) else canonical(v)}"
+                for k, v in sorted(ev.details.items()))
+            return text if len(text) <= 200 else text[:199] + "…"
+
+        rows = ((f"{ev.t / 1e9:.9f}", ev.kind, ev.source, details(ev))
+                for _, ev in zip(range(MAX_ROWS), events))
+        return html_table(("t [s]", "kind", "source", "details"), rows, caption=caption,
+                          total=total, mono=(1, 2, 3))
+
+    def _repr_html_(self) -> str:
+        """The events as an HTML table for notebooks (the first 50, then how many more)."""
+        kinds = ", ".join(f"{k} ×{n}" for k, n in self.kinds().most_common(5))
+        more = len(self.kinds()) - 5
+        caption = (f"{len(self)} event{'s' if len(self) != 1 else ''}"
+                   + (f" ({kinds}{f', {more} more kinds' if more > 0 else ''})" if kinds else ""))
+        return self._html(self, len(self), caption)
+
 
 def _filter_active_marker(event: TraceEvent) -> None:
     """A no-op in ``Trace._listeners`` while a filter is set (see ``Trace._rebind``)."""
@@ -551,6 +575,14 @@ class Trace:
         with open(path, "w", encoding="utf-8") as f:
             for line in self.lines():
                 f.write(line + "\n")
+
+    def _repr_html_(self) -> str:
+        """The stored events as an HTML table for notebooks (the first 50, then how many more)."""
+        caption = f"trace: {len(self)} event{'s' if len(self) != 1 else ''} stored"
+        counted = sum(self._counts.values())
+        if counted:
+            caption += f", {counted} counted only (recording off or filtered)"
+        return TraceSelection._html((_event(raw) for raw in self._raw), len(self), caption)
 
     def format(self, limit: int | None = None) -> str:
         """A human-readable table: seconds, kind, source, details."""

@@ -897,3 +897,48 @@ class Bag:
         state = "closed" if self._closed else self._mode
         return (f"<Bag {where} ({state}) {len(self._connections)} connections "
                 f"{sum(len(ix) for ix in self._indexes.values())} messages>")
+
+    def _repr_html_(self) -> str:
+        """What ``rosbag info`` shows, as HTML tables for notebooks (every name escaped).
+
+        Path, version, duration, start and end (local time and seconds), size,
+        messages and compression, then one row per type (md5) and per topic
+        (messages, frequency, type, connections).  A closed bag shows its repr.
+        """
+        from ddes.display.tables import html_table, html_text, key_value_table
+        from ddes.rosbag.info import (
+            _compression_rows,
+            _duration_str,
+            human_readable_frequency,
+            human_readable_size,
+            time_to_str,
+        )
+
+        if self._closed:
+            return f"<p><code>{html_text(repr(self))}</code></p>"
+        summary = self._summary()
+        rows: list[tuple[str, object]] = [("path", shown(summary.path or "(in memory)")),
+                                          ("version", "2.0")]
+        span = summary.span()
+        if span is not None:
+            start, end = span
+            rows += [("duration", _duration_str(end - start)),
+                     ("start", f"{time_to_str(start)} ({start:.2f})"),
+                     ("end", f"{time_to_str(end)} ({end:.2f})")]
+        rows += [("size", human_readable_size(summary.size)),
+                 ("messages", summary.message_count())]
+        if span is not None:
+            rows += _compression_rows(summary.chunks, span[1] - span[0])
+        out = [key_value_table(rows, caption="bag")]
+        if span is not None:
+            out.append(html_table(
+                ("type", "md5sum"), ((shown(t), shown(md5)) for t, md5, _ in summary.types()),
+                caption="types", mono=(0, 1), limit=10_000))
+            topics = topic_rows(summary, not self._skip_index)
+            out.append(html_table(
+                ("topic", "messages", "frequency", "type", "connections"),
+                ((shown(r.topic), r.count,
+                  "" if r.frequency is None else human_readable_frequency(r.frequency),
+                  shown(r.datatype), r.connections) for r in topics),
+                caption="topics", mono=(0, 3), limit=10_000))
+        return "".join(out)
