@@ -30,3 +30,11 @@ def test_transcript_is_what_the_console_prints(block: str) -> None:
 @pytest.mark.parametrize("code", PYTHON, ids=[f"python{i}" for i in range(len(PYTHON))])
 def test_snippet_runs(code: str) -> None:
     exec(compile(code, str(DOC), "exec"), {})  # noqa: S102 - our own documentation; asserts inside
+
+
+def test_the_command_table_lists_every_console_command() -> None:
+    table = TEXT[TEXT.index("## Commands"):TEXT.index("## How time passes")]
+    rows = [line for line in table.splitlines() if line.startswith("| `")]
+    firsts = {word.strip("`[]|(),") for row in rows for word in row.split("|")[1].split()}
+    missing = [c for c in Console(out=lambda _line: None).commands() if c not in firsts]
+    assert missing == []
