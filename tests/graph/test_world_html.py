@@ -55,3 +55,12 @@ def test_a_world_with_a_filtered_trace_says_it_has_no_digest() -> None:
 def test_an_empty_world() -> None:
     row = cells(ddes.World()._repr_html_())
     assert row["nodes"] == "0" and row["topics"] == "0" and row["time"] == "0.000000000 s"
+
+
+def test_the_notebook_snippet_of_docs_graph_md_runs() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "graph.md").read_text(encoding="utf-8")
+    section = text[text.index("## In a notebook"):]
+    (block,) = re.findall(r"```python\n(.*?)```", section, flags=re.S)
+    exec(compile(block, "docs/graph.md", "exec"), {})  # noqa: S102 - our own docs
