@@ -17,6 +17,9 @@ from __future__ import annotations
 
 __all__ = [
     "BadYieldError",
+    "BlockingCallError",
+    "BlockingInYieldCodeError",
+    "BlockingOutsideNodeError",
     "DdesAttributeError",
     "DdesError",
     "DdesKeyError",
@@ -171,6 +174,21 @@ class NoGlobalFunctionError(RospyCallError, DdesAttributeError):
 
     Also an ``AttributeError``, so ``hasattr(ddes, "init_node")`` stays False.
     """
+
+
+class BlockingCallError(ROSInitException):
+    """A blocking call (``rate.sleep()``, ``rospy.sleep()``, ``proxy(req)`` ...) where nothing can
+    block: only a node's code running on a greenlet (ddes.graph.blocking) can."""
+
+
+class BlockingOutsideNodeError(BlockingCallError):
+    """A blocking call outside any node (before ``init_node``, at import time, in a thread of
+    one's own); rospy's "time is not initialized. Have you called init_node()?"."""
+
+
+class BlockingInYieldCodeError(BlockingCallError):
+    """A blocking call inside yield-style code (a node process or a generator callback):
+    ``yield`` the event there, or write the code as plain blocking rospy."""
 
 
 class ROSNameException(DdesValueError):

@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Protocol
 import simpy
 
 from ddes.errors import DdesValueError
+from ddes.graph.blocking import run_callback
 from ddes.graph.failures import user_traceback
 
 if TYPE_CHECKING:
@@ -50,7 +51,8 @@ if TYPE_CHECKING:
 
     from ddes.graph.node import Node
 
-__all__ = ["POLICIES", "CallbackOwner", "CallbackQueue", "SpinnerPolicy"]
+__all__ = ["POLICIES", "CallbackOwner", "CallbackQueue", "GreenCallbackQueue", "SpinnerPolicy",
+           "make_green"]
 
 #: The named policies (an int is a thread count).
 POLICIES = ("single", "manual", "rospy")
@@ -183,6 +185,14 @@ class CallbackQueue:
         self.report_error(fn, exc)
 
     # -- generators ---------------------------------------------------------------------------
+    def hold(self, owner: CallbackOwner | None) -> None:
+        """A callback goes on past its call (a generator, a blocked task): it holds a thread."""
+        self.running += 1
+        if self.running >= self.threads:
+            self.free = False
+        if owner is not None:
+            owner.cb_active = True
+
     def _adopt(self, fn: Callback, gen: ProcessGenerator, owner: CallbackOwner | None,
                on_done: Callable[[], object] | None) -> None:
         """A generator callback: it holds a thread of the spinner until it ends."""
@@ -276,3 +286,28 @@ class CallbackQueue:
         self.closed = True
         self.free = False
         self._q.clear()
+
+
+class GreenCallbackQueue(CallbackQueue):
+    """The queue of a node whose code blocks (:mod:`ddes.graph.blocking`, rospy scripts).
+
+    The same queue, policy and rules; only the call differs: each callback runs on a task
+    of its own, so it may block (``rospy.sleep``, ``proxy(req)``), holding its thread of the
+    spinner while it waits, as a generator callback does.  A node's queue becomes one with
+    :func:`make_green`, so yield-style nodes keep :meth:`CallbackQueue.run` untouched.
+    """
+
+    __slots__ = ()
+
+    def run(self, fn: Callback, args: tuple[object, ...] = (), owner: CallbackOwner | None = None,
+            on_done: Callable[[], object] | None = None) -> None:
+        run_callback(self, fn, args, owner, on_done, False)
+
+    def run1(self, fn: Callback, arg: object, owner: CallbackOwner | None = None,
+             on_done: Callable[[], object] | None = None) -> bool:
+        return run_callback(self, fn, (arg,), owner, on_done, True)
+
+
+def make_green(queue: CallbackQueue) -> None:
+    """Run ``queue``'s callbacks on tasks from now on (its node's code blocks)."""
+    queue.__class__ = GreenCallbackQueue
