@@ -323,6 +323,8 @@ class Console:
             return topics + nodes
         if tool == "kill":
             return [f"%{j.id}" for j in self.ctx.jobs]
+        if tool == "roscd" or (tool == "rospack" and index >= 2):
+            return rospack.list()
         if index == 1 and tool in _SUBCOMMANDS:
             return list(_SUBCOMMANDS[tool])
         sub = words[1] if len(words) > 1 else ""

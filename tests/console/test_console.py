@@ -178,6 +178,8 @@ def test_completion(console: Console) -> None:
     console.run("rosrun --quiet rospy_tutorials talker &")
     assert console.complete("rost", "rost") == ["rostopic"]
     assert "rosrun" in console.complete("", "")
+    assert console.complete("roscd roscpp_t", "roscpp_t") == ["roscpp_tutorials"]
+    assert console.complete("rospack find std_m", "std_m") == ["std_msgs"]
     assert console.complete("rostopic ", "") == ["bw", "delay", "echo", "find", "hz", "info",
                                                  "list", "pub", "type"]
     assert console.complete("rostopic echo /ch", "/ch") == ["/chatter"]
