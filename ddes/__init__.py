@@ -148,10 +148,10 @@ if not TYPE_CHECKING:  # type checkers report these names as missing, as they ar
         if lines is None:
             raise AttributeError(message, name=name)
         code = "".join(f"\n    {line}" for line in lines)
-        from ddes.time.rospy_calls import NODE_HINT
+        from ddes.time.rospy_calls import COMPAT_HINT, NODE_HINT
 
         raise errors.NoGlobalFunctionError(
             f"{message}: rospy.{name} works on rospy's one global node, and ddes has none "
             f"(there is no rospy.init_node); a ddes world holds many nodes. Write:{code}"
-            + ("" if name == "init_node" else f"\n{NODE_HINT}"),
+            + ("" if name == "init_node" else f"\n{NODE_HINT}") + f"\n{COMPAT_HINT}",
             name=name)

@@ -10,6 +10,11 @@ receives the started :class:`~ddes.graph.node.Node`:
   when it returns, the node shuts down, as a script that reaches its end.
   It may return an int exit code (recorded as ``node.exit`` in the trace).
 
+A package's rospy scripts (``scripts/talker.py`` or ``nodes/talker.py`` of a
+catkin package) are node types too (``rosrun PKG talker.py``): they run
+unchanged through :mod:`ddes.compat.scripts`, ``import rospy`` resolving to
+:mod:`ddes.compat.rospy` for that script only.
+
 ``NodeType.name`` is the name the code would pass to ``init_node``; ``rosrun``
 ``__name:=`` and launch ``name=`` override it.  ``log_style`` selects how
 its log lines print (``"rospy"`` or ``"roscpp"``), so a C++ tutorial node prints
@@ -43,8 +48,9 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
-__all__ = ["NodeMain", "NodeType", "NodeTypeNotFound", "load_node_types", "node_cwd",
-           "print_line", "start_node"]
+__all__ = ["SCRIPT_FOLDERS", "NodeExitedError", "NodeMain", "NodeType", "NodeTypeNotFound",
+           "find_script", "list_scripts", "load_node_types", "node_cwd", "print_line",
+           "start_node"]
 
 #: A node type's ``main(node)``: a plain function (set up, then spin) or a generator function
 #: (the main loop; it may return an int exit code).
@@ -106,7 +112,12 @@ def start_node(
     try:
         nt = types[node_type]
     except KeyError:
-        known = ", ".join(sorted(types)) or "none"
+        script = find_script(rospack.get_path(package), node_type)
+        if script is not None:
+            return _start_script(world, package, script, name=name, namespace=namespace,
+                                 argv=argv, remappings=remappings, cwd=cwd)
+        known = ", ".join(sorted(types) + [p.name for p in list_scripts(
+            rospack.get_path(package))]) or "none"
         raise NodeTypeNotFound(
             f"Couldn't find executable named {node_type} below {rospack.get_path(package)} "
             f"(node types of {package}: {known})"
@@ -133,6 +144,65 @@ def start_node(
             ev.defused = True  # logged and recorded; the world keeps running
 
         proc.callbacks.append(finished)
+    return node
+
+
+#: The folders of a catkin package that hold its Python node scripts, searched in this order.
+SCRIPT_FOLDERS = ("scripts", "nodes")
+
+
+class NodeExitedError(DdesError):
+    """A script node ended before ``rospy.init_node`` (a usage error, ``sys.exit``): no node."""
+
+
+def list_scripts(package_dir: Path) -> list[Path]:
+    """The Python scripts of a catkin package (``scripts/`` and ``nodes/``), sorted by name."""
+    found: list[Path] = []
+    for folder in SCRIPT_FOLDERS:
+        base = Path(package_dir) / folder
+        if base.is_dir():
+            found += sorted(p for p in base.iterdir() if p.is_file() and p.suffix in ("", ".py")
+                            and not p.name.startswith((".", "_")))
+    return found
+
+
+def find_script(package_dir: Path, node_type: str) -> Path | None:
+    """``scripts/<node_type>`` or ``nodes/<node_type>`` of a package, as rosrun finds it."""
+    for folder in SCRIPT_FOLDERS:
+        path = Path(package_dir) / folder / node_type
+        if path.is_file():
+            return path
+    return None
+
+
+def _start_script(world: World, package: str, script: Path, *, name: str | None,
+                  namespace: str, argv: Sequence[str], remappings: dict[str, str] | None,
+                  cwd: str | None) -> Node:
+    """Run a rospy script as a node (:mod:`ddes.compat.scripts`); its node once it has one."""
+    from ddes.compat.scripts import run_script
+    from ddes.graph.blocking import current_node
+
+    args = list(argv)
+    if name is not None and not any(a.startswith("__name:=") for a in args):
+        args.append(f"__name:={name}")  # roslaunch passes a launch name= this way
+
+    def out(text: str, stderr: bool) -> None:
+        node = current_node()  # the script's code prints on its own greenlet
+        if node is None:
+            stream = sys.stderr if stderr else sys.stdout
+            stream.write(text + "\n")
+            return
+        print_line(node, text, stderr=stderr)
+
+    done, context = run_script(world, script, args, namespace=namespace, remappings=remappings,
+                               print_line=out)
+    node = context.node
+    if node is None:
+        code = done.value if done.triggered and done.ok else 1
+        raise NodeExitedError(f"{package}/{script.name} exited with code {code} before "
+                              "rospy.init_node: there is no node (check its arguments)")
+    if cwd is not None:
+        world.extension(_CWD_KEY, _new_cwd_table)[node] = cwd
     return node
 
 

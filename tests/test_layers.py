@@ -32,6 +32,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("services",),
     ("actionlib", "dynamic_reconfigure", "rosbag", "tf2"),
     ("sim",),
+    ("compat",),
     ("nodes", "packages"),
     ("launch",),
     ("console",),

@@ -27,6 +27,10 @@ String = ddes.get_message_class("std_msgs/String")
 AddTwoInts = ddes.get_service_class("rospy_tutorials/AddTwoInts")
 FIB = "actionlib_tutorials/FibonacciAction"
 HINT = 'where node = world.create_node("my_node") and world = ddes.World().'
+#: Every message ends by pointing at the other answer: plain rospy as a script node.
+COMPAT_HINT_TAIL = ("\nOr `from ddes.compat import rospy` to write plain rospy: a rospy script "
+                    "started as a node (rosrun PKG script.py) runs unchanged, its blocking calls "
+                    "on simulated time (docs/rospy.md).")
 
 
 def tick(event: Any) -> None:
@@ -103,7 +107,7 @@ def test_a_rospy_shaped_call_says_what_to_write(call: Callable[[], object], echo
     assert "ddes has no global node (there is no rospy.init_node)" in text
     for line in lines:
         assert f"\n    {line}" in text, line
-    assert text.endswith(HINT)
+    assert text.endswith(HINT + COMPAT_HINT_TAIL)
     # the error is typed and catchable as what rospy (or Python) would raise
     assert isinstance(info.value, (RospyCallError, ROSInitException, ddes.ROSException, TypeError))
 
@@ -129,6 +133,7 @@ def test_rospy_module_functions_name_the_node_method(name: str, line: str) -> No
     text = str(info.value)
     assert text.startswith(f"module 'ddes' has no attribute '{name}': rospy.{name} ")
     assert f"\n    {line}" in text
+    assert text.endswith(COMPAT_HINT_TAIL)
     assert isinstance(info.value, AttributeError) and info.value.name == name
     assert not hasattr(ddes, name)  # an AttributeError: hasattr stays False
 

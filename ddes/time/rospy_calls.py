@@ -23,11 +23,16 @@ from typing import Any, NoReturn
 
 from ddes.errors import DdesTypeError, MissingNodeError
 
-__all__ = ["NODE_HINT", "REQUIRED", "arg_text", "call_text", "is_node_like", "missing_node",
+__all__ = ["COMPAT_HINT", "NODE_HINT", "REQUIRED", "arg_text", "call_text", "is_node_like", "missing_node",
            "node_first"]
 
 #: Where a node comes from, the last line of every message.
 NODE_HINT = 'where node = world.create_node("my_node") and world = ddes.World().'
+
+#: The other answer, after every message: plain rospy code runs as a script node.
+COMPAT_HINT = ("Or `from ddes.compat import rospy` to write plain rospy: a rospy script started "
+               "as a node (rosrun PKG script.py) runs unchanged, its blocking calls on simulated "
+               "time (docs/rospy.md).")
 
 
 class _Required:
@@ -83,7 +88,7 @@ def missing_node(call: str, *lines: str) -> MissingNodeError:
     code = "".join(f"\n    {line}" for line in lines)
     return MissingNodeError(
         f"{call} is rospy's spelling: ddes has no global node (there is no rospy.init_node), "
-        f"so ROS calls take their node first. Write:{code}\n{NODE_HINT}"
+        f"so ROS calls take their node first. Write:{code}\n{NODE_HINT}\n{COMPAT_HINT}"
     )
 
 

@@ -355,13 +355,26 @@ class Time(_TimeBase["Duration"]):
         """Current ROS time of ``clock`` (a node, a clock or a world).
 
         rospy's ``Time.now()`` reads a process-wide clock; ddes has none, so
-        the node (or its clock) must be passed.
+        the node (or its clock) must be passed, except in blocking code (a
+        rospy script): there the node of the running greenlet is used.
         """
         if clock is None:
-            from ddes.time.rospy_calls import missing_node
+            # In blocking code (a rospy script, ddes.graph.blocking) the running greenlet knows
+            # its node: rospy's Time.now() works there as in rospy.
+            from greenlet import getcurrent
 
-            raise missing_node("ddes.Time.now()",
-                               "ddes.Time.now(node)    # or node.get_rostime()")
+            task = getcurrent()
+            clock = getattr(task, "node", None)
+            if clock is None:
+                if hasattr(task, "node"):  # a script before rospy.init_node: rospy's text
+                    from ddes.errors import ROSInitException
+
+                    raise ROSInitException(
+                        "time is not initialized. Have you called init_node()?")
+                from ddes.time.rospy_calls import missing_node
+
+                raise missing_node("ddes.Time.now()",
+                                   "ddes.Time.now(node)    # or node.get_rostime()")
         return clock.get_rostime()
 
 

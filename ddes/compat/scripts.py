@@ -1,0 +1,237 @@
+"""Run a rospy script as a node: its own argv, remappings, and imports resolving to ddes.
+
+:func:`run_script` executes a Python file as ``__main__`` on a greenlet
+(:func:`ddes.graph.blocking.spawn`).  The script's globals get their own
+``__builtins__`` whose ``__import__`` resolves, for that script's code only:
+
+* ``rospy`` (and ``rospy.*``) to :mod:`ddes.compat.rospy`;
+* ``<pkg>.msg`` / ``<pkg>.srv`` of every message package on the world's path
+  (``from std_msgs.msg import String``, ``from rospy_tutorials.srv import
+  AddTwoInts, AddTwoIntsResponse``) to modules of the world's message classes;
+* ``sys`` to a view of the real module whose ``argv`` is the script's command
+  line (``rosrun`` arguments, remappings included, as ROS passes them).
+
+Everything else imports as usual, and nothing is installed in ``sys.modules``
+or in the real ``builtins``: the user's other code (and other scripts) see
+their own imports.  Modules the script imports keep their own imports (a
+helper module of the user's that imports ``rospy`` gets the real one).
+"""
+
+from __future__ import annotations
+
+import builtins
+import sys
+import types
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ddes.errors import DdesError, MsgNotFound
+from ddes.graph.blocking import spawn
+from ddes.graph.failures import print_to_stderr, user_traceback
+
+if TYPE_CHECKING:
+    import simpy
+
+    from ddes.graph.node import Node
+    from ddes.graph.world import World
+
+__all__ = ["ScriptContext", "run_script", "script_builtins"]
+
+_MODULES_KEY = "compat.scripts.modules"
+
+
+@dataclass
+class ScriptContext:
+    """What a script node starts with (``task.context`` of its greenlet)."""
+
+    #: The script file.
+    path: Path
+    #: Its command line, ``argv[0]`` the script's path (rospy reads remappings from it).
+    argv: list[str]
+    #: ``ROS_NAMESPACE`` / a launch group's ``ns``.
+    namespace: str = "/"
+    #: A launch file's ``<remap>`` entries.
+    remappings: dict[str, str] | None = None
+    #: ``print`` of the script: a line and whether it goes to standard error (None: the real one).
+    print_line: Callable[[str, bool], None] | None = None
+    #: The node, once the script has called ``rospy.init_node``.
+    node: Node | None = field(default=None)
+    #: Publishers and subscribers created before ``init_node`` (made by it).
+    before_init: list[Any] = field(default_factory=list)
+
+
+class _ScriptSys(types.ModuleType):
+    """``sys`` as the script sees it: its own ``argv``, the real module for everything else."""
+
+    def __init__(self, argv: list[str]) -> None:
+        super().__init__("sys")
+        self.argv = argv
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(sys, name)
+
+
+class _MessageModule(types.ModuleType):
+    """``<pkg>.msg`` or ``<pkg>.srv``: the world's message (service) classes of one package."""
+
+    def __init__(self, world: World, package: str, kind: str) -> None:
+        super().__init__(f"{package}.{kind}")
+        self._world = world
+        self._package = package
+        self._kind = kind
+
+    def __getattr__(self, attr: str) -> Any:
+        if attr.startswith("__"):
+            raise AttributeError(attr)
+        registry = self._world.messages
+        full = f"{self._package}/{attr}"
+        try:
+            if self._kind == "msg":
+                cls: Any = registry.get_message_class(full)
+            else:
+                cls = _service_part(registry, self._package, attr)
+        except (MsgNotFound, DdesError) as exc:
+            raise AttributeError(
+                f"module '{self.__name__}' has no attribute '{attr}' ({exc})") from None
+        setattr(self, attr, cls)
+        return cls
+
+
+def _service_part(registry: Any, package: str, attr: str) -> Any:
+    """``AddTwoInts``, ``AddTwoIntsRequest`` or ``AddTwoIntsResponse`` of a package."""
+    for suffix, part in (("Request", "_request_class"), ("Response", "_response_class")):
+        if attr.endswith(suffix):
+            try:
+                return getattr(registry.get_service_class(f"{package}/{attr[:-len(suffix)]}"),
+                               part)
+            except MsgNotFound:
+                break
+    return registry.get_service_class(f"{package}/{attr}")
+
+
+class _MessagePackage(types.ModuleType):
+    """``import std_msgs.msg`` binds ``std_msgs``: a package with its ``msg`` and ``srv``."""
+
+    def __init__(self, world: World, package: str) -> None:
+        super().__init__(package)
+        self.msg = _MessageModule(world, package, "msg")
+        self.srv = _MessageModule(world, package, "srv")
+
+
+def _packages(world: World) -> dict[str, _MessagePackage | None]:
+    return world.extension(_MODULES_KEY, _new_packages)
+
+
+def _new_packages(_world: object) -> dict[str, _MessagePackage | None]:
+    return {}
+
+
+def _message_package(world: World, name: str) -> _MessagePackage | None:
+    """The message package ``name`` on the world's path, or None."""
+    table = _packages(world)
+    if name not in table:
+        try:
+            known = bool(world.messages.list_types(name, "msg")
+                         or world.messages.list_types(name, "srv"))
+        except MsgNotFound:
+            known = False
+        table[name] = _MessagePackage(world, name) if known else None
+    return table[name]
+
+
+def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
+    """The ``__builtins__`` of a script: the real ones with its import and print."""
+    real_import = builtins.__import__
+    script_sys = _ScriptSys(context.argv)
+
+    def script_import(name: str, globals: Any = None, locals: Any = None,  # noqa: A002
+                      fromlist: Sequence[str] = (), level: int = 0) -> Any:
+        if level == 0:
+            top, _, rest = name.partition(".")
+            if top == "rospy":
+                from ddes.compat import rospy
+
+                return rospy
+            if name == "sys":
+                return script_sys
+            if rest in ("", "msg", "srv") and top not in sys.builtin_module_names:
+                pkg = _message_package(world, top)
+                if pkg is not None:
+                    if rest and fromlist:
+                        return getattr(pkg, rest)
+                    if rest or not _is_importable(top):
+                        return pkg
+        return real_import(name, globals, locals, fromlist, level)
+
+    table = dict(builtins.__dict__)
+    table["__import__"] = script_import
+    printer = context.print_line
+    if printer is not None:
+        real_print = builtins.print
+
+        def script_print(*args: object, sep: str | None = " ", end: str | None = "\n",
+                         file: Any = None, flush: bool = False) -> None:
+            if file is not None and file is not sys.stdout and file is not sys.stderr:
+                real_print(*args, sep=sep, end=end, file=file, flush=flush)
+                return
+            text = (" " if sep is None else sep).join(str(a) for a in args)
+            printer(text, file is sys.stderr)
+
+        table["print"] = script_print
+    return table
+
+
+def _is_importable(name: str) -> bool:
+    """True when a real module ``name`` exists (a package's bare name is then the real one)."""
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec(name) is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def run_script(world: World, path: str | Path, argv: Sequence[str] = (), *,
+               namespace: str = "/", remappings: dict[str, str] | None = None,
+               print_line: Callable[[str, bool], None] | None = None,
+               ) -> tuple[simpy.Event, ScriptContext]:
+    """Run the rospy script ``path`` as ``__main__`` on a greenlet, now, until it first blocks.
+
+    ``argv`` are its arguments (``rosrun pkg script.py a b _p:=1 x:=y``). Returns the event of
+    its end (its exit code, or its exception: see :func:`ddes.graph.blocking.spawn`) and its
+    context, whose ``node`` is the node once the script has called ``rospy.init_node``.
+    """
+    path = Path(path)
+    context = ScriptContext(path=path, argv=[str(path), *argv], namespace=namespace,
+                            remappings=remappings, print_line=print_line)
+    source = path.read_text(encoding="utf-8")
+    code = compile(source, str(path), "exec")
+
+    def main() -> int:
+        scope: dict[str, Any] = {"__name__": "__main__", "__file__": str(path),
+                                 "__builtins__": script_builtins(world, context)}
+        exec(code, scope)  # noqa: S102 - the user's own node script, as python would run it
+        return 0
+
+    def finished(ev: simpy.Event) -> None:
+        node = context.node
+        if ev.ok:
+            if node is not None and not node.is_shutdown():
+                world.record("node.exit", node.name, code=ev.value)
+                node.shutdown("script ended")
+            return
+        exc = ev.value
+        if node is None and isinstance(exc, Exception) and not world.strict:
+            # before init_node there is no node to crash: python's traceback, exit code 1
+            text = user_traceback(exc)
+            if print_line is not None:
+                print_line(text.rstrip("\n"), True)
+            else:
+                print_to_stderr(text)
+            ev.defused = True
+
+    done = spawn(world, main, context=context)
+    done.callbacks.append(finished)
+    return done, context
