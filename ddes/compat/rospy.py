@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import (
@@ -288,7 +289,10 @@ class _BeforeInit:
         if real is None:
             raise ROSException("ROS node has not been initialized yet. Please call init_node() "
                                "first")
-        return getattr(real, name)
+        value = getattr(real, name)
+        if callable(value) and not name.startswith("_"):
+            self.__dict__[name] = value  # a method: found directly from now on (publish)
+        return value
 
     def __repr__(self) -> str:
         real = self.__dict__.get("_real")
@@ -298,8 +302,12 @@ class _BeforeInit:
 def _pending(cls: type, args: tuple[object, ...], kwargs: dict[str, object]) -> Any:
     """A :class:`_BeforeInit` when a script has no node yet, else None (create it now)."""
     task = current_task()
-    if task is None or task.node is not None or task.context is None:
+    if task is None or task.node is not None:
         return None
+    if task.context is None:  # code spawned without a script: a context to hold them
+        from ddes.compat.scripts import ScriptContext
+
+        task.context = ScriptContext(path=Path(), argv=[])
     later = _BeforeInit(cls, args, kwargs)
     context: Any = task.context
     context.before_init.append(later)

@@ -79,7 +79,7 @@ class GreenTask(greenlet):  # type: ignore[misc]  # greenlet ships no stubs for 
     there for it.
     """
 
-    def __init__(self, world: World, node: Node | None, run: Callable[[], object],
+    def __init__(self, world: World, node: Node | None, run: Callable[..., object],
                  context: object = None) -> None:
         super().__init__(run)
         self.world = world
@@ -99,11 +99,12 @@ class GreenTask(greenlet):  # type: ignore[misc]  # greenlet ships no stubs for 
         """The event this task waits on fired (a kernel callback): run the task on from there."""
         if self.waiting is not event or self.dead:
             return  # woken earlier (an interrupt); the event no longer concerns it
+        ended = True
         try:
             self.parent = getcurrent()
-            self.switch(event)
+            ended = self.switch(event) is not _BLOCKED
         finally:
-            if self.dead and self.on_end is not None:
+            if ended and self.on_end is not None:
                 end, self.on_end = self.on_end, None
                 end()
 
@@ -286,10 +287,64 @@ def _finish(task: GreenTask, done: simpy.Event) -> None:
 
 
 # -- callbacks ------------------------------------------------------------------------------
+#: The per-world pool of idle callback tasks (a kernel extension slot).  Starting a greenlet
+#: costs far more than switching to one (CPython allocates its frame stack), so callback tasks
+#: are reused: an idle one waits at the end of its loop for the next callback.
+_POOL_KEY = "graph.blocking.pool"
+
+
+def _new_pool(_world: object) -> list[GreenTask]:
+    return []
+
+
+def _worker(job: tuple[Any, ...]) -> None:
+    """A callback task's loop: run a callback, go back to the pool, wait for the next one."""
+    task = getcurrent()
+    pool = _pool_of(task.world)
+    while True:
+        finished = _run_job(task, *job)
+        if task.blocked:
+            _forget(task)
+        task.node = None
+        pool.append(task)
+        job = task.parent.switch(finished)
+
+
+def _pool_of(world: World) -> list[GreenTask]:
+    return world.extension(_POOL_KEY, _new_pool)
+
+
+def _run_job(task: GreenTask, queue: CallbackQueue, fn: Callback, args: tuple[object, ...],
+             owner: CallbackOwner | None, on_done: Callable[[], object] | None) -> bool:
+    """One callback on ``task`` (see :func:`run_callback`); True if it finished plainly."""
+    try:
+        result = fn(*args)
+    except ROSInterruptException:
+        if not queue.node.is_shutdown():
+            raise
+        return False  # woken by the node's shutdown: the callback just ends
+    except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
+        if task.blocked:
+            failed = getattr(owner, "callback_failed", None)
+            if failed is not None:
+                failed()
+            queue.report_error(fn, exc)
+        else:
+            queue._failed(fn, exc, on_done, owner)
+        return False
+    if result is not None and type(result) is GeneratorType:
+        if task.blocked:  # blocked, then returned a generator: it runs on its own
+            queue.node.world.env.process(queue._run_generator(fn, result, owner))
+            return False
+        queue._adopt(fn, result, owner, on_done)
+        return False
+    return True
+
+
 def run_callback(queue: CallbackQueue, fn: Callback, args: tuple[object, ...],
                  owner: CallbackOwner | None, on_done: Callable[[], object] | None,
                  done_at_once: bool) -> bool:
-    """Run one callback of a blocking node on its own task (``CallbackQueue.run`` and ``run1``).
+    """Run one callback of a blocking node on a task (``CallbackQueue.run`` and ``run1``).
 
     Returns True when the callback finished without blocking and ``done_at_once`` is True
     (``run1``'s contract: the caller finishes, ``on_done`` is not called); otherwise
@@ -298,39 +353,16 @@ def run_callback(queue: CallbackQueue, fn: Callback, args: tuple[object, ...],
     generator result is adopted as in yield style.
     """
     node = queue.node
-
-    def body() -> bool:
-        task = getcurrent()
-        try:
-            result = fn(*args)
-        except ROSInterruptException:
-            if not node.is_shutdown():
-                raise
-            return False  # woken by the node's shutdown: the callback just ends
-        except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
-            _forget(task)
-            if task.blocked:
-                failed = getattr(owner, "callback_failed", None)
-                if failed is not None:
-                    failed()
-                queue.report_error(fn, exc)
-            else:
-                queue._failed(fn, exc, on_done, owner)
-            return False
-        _forget(task)
-        if result is not None and type(result) is GeneratorType:
-            if task.blocked:  # blocked, then returned a generator: it runs on its own
-                queue.node.world.env.process(queue._run_generator(fn, result, owner))
-                return False
-            queue._adopt(fn, result, owner, on_done)
-            return False
-        return True
-
-    task = GreenTask(queue.node.world, node, body)
-    _track(node).append(task)
+    world = node.world
+    pool = _pool_of(world)
+    task = pool.pop() if pool else GreenTask(world, None, _worker)
+    task.node = node
+    task.blocked = False
+    task.on_end = None
     task.parent = getcurrent()
-    finished = task.switch()
+    finished = task.switch((queue, fn, args, owner, on_done))
     if finished is _BLOCKED:
+        _track(node).append(task)  # a blocked callback is woken when its node shuts down
         queue.hold(owner)
         task.on_end = lambda: queue._finished(owner, on_done)
         return False

@@ -297,3 +297,37 @@ def test_an_event_already_processed_returns_without_blocking() -> None:
     got: list[object] = []
     spawn(world, lambda: got.append((wait(ev), world.now)), node=node)
     assert got == [("early", 0)]
+
+
+def test_callback_tasks_are_reused_but_never_while_one_is_blocked() -> None:
+    from ddes.graph.blocking import _POOL_KEY
+
+    world = ddes.World()
+    node = world.create_node("n", spinner="rospy")
+    other = world.create_node("o")
+    fast = ddes.Publisher(other, "fast", String, queue_size=100)
+    slow = ddes.Publisher(other, "slow", String, queue_size=100)
+    seen: list[tuple[str, int, int]] = []
+
+    def on_slow(m: Any) -> None:
+        me = id(current_task())
+        wait(node.sleep(0.05))
+        seen.append(("slow", world.now // MS, int(id(current_task()) == me)))
+
+    ddes.Subscriber(node, "fast", String, lambda m: seen.append(("fast", world.now // MS, 0)),
+                    queue_size=100)
+    ddes.Subscriber(node, "slow", String, on_slow, queue_size=100)
+    spawn(world, lambda: None, node=node)
+
+    def talk() -> Generator[Any, Any, None]:
+        yield other.sleep(0.01)
+        slow.publish(String(data="s"))
+        for _ in range(5):
+            fast.publish(String(data="f"))
+            yield other.sleep(0.01)
+
+    other.process(talk())
+    world.run(until=1.0)
+    assert seen == [("fast", 10, 0), ("fast", 20, 0), ("fast", 30, 0), ("fast", 40, 0),
+                    ("fast", 50, 0), ("slow", 60, 1)]
+    assert len(world.extensions[_POOL_KEY]) == 2  # one ran the fast callbacks, one was blocked
