@@ -1,0 +1,114 @@
+"""The bundled rospy scripts under real rospy (Debian ROS, system Python) and under ddes agree.
+
+The same files, ``ddes/packages/rospy_tutorials/scripts/*.py``, run as real ROS processes on a
+real rosmaster and as ddes nodes.  add_two_ints is deterministic in ROS too, so its printed lines
+must be identical; talker/listener lines carry wall-clock times and pids in ROS, so they are
+compared with every number replaced by ``N``.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import ddes
+from ddes.compat.scripts import run_script
+
+SCRIPTS = Path(ddes.__file__).parent / "packages" / "rospy_tutorials" / "scripts"
+PACKAGE = SCRIPTS.parent
+
+def _master_script() -> str:
+    """tests/graph/rosmaster_script.py's MASTER (a file of another test folder)."""
+    path = Path(__file__).resolve().parents[1] / "graph" / "rosmaster_script.py"
+    spec = importlib.util.spec_from_file_location("_ddes_rosmaster_script", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return str(module.MASTER)
+
+
+#: rospy_tutorials' Python messages are not in Debian's ROS: generate them with genpy.
+GENERATE = r'''
+import json, signal, subprocess
+from genpy.generator import SrvGenerator
+_gen = tempfile.mkdtemp(prefix="ddes-gen-")
+_out = os.path.join(_gen, "rospy_tutorials", "srv")
+os.makedirs(_out)
+SrvGenerator().generate_messages("rospy_tutorials", [PACKAGE + "/srv/AddTwoInts.srv"], _out,
+                                 {"rospy_tutorials": [PACKAGE + "/msg"],
+                                  "std_msgs": ["/usr/share/std_msgs/msg"]})
+open(os.path.join(_gen, "rospy_tutorials", "__init__.py"), "w").close()
+with open(os.path.join(_out, "__init__.py"), "w") as f:
+    f.write("from ._AddTwoInts import *\n")
+os.environ["PYTHONPATH"] = _gen
+
+def stop(p):
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=30)
+    return out.splitlines()
+'''
+
+ADD_TWO_INTS = r'''
+server = start_process([sys.executable, "-u", SCRIPTS + "/add_two_ints_server.py"])
+client = subprocess.run([sys.executable, "-u", SCRIPTS + "/add_two_ints_client.py", "3", "4"],
+                        capture_output=True, text=True, timeout=60, env=dict(os.environ))
+print(json.dumps({"server": stop(server), "client": client.stdout.splitlines(),
+                  "code": client.returncode}))
+'''
+
+CHATTER = r'''
+listener = start_process([sys.executable, "-u", SCRIPTS + "/listener.py"])
+time.sleep(1.0)
+talker = start_process([sys.executable, "-u", SCRIPTS + "/talker.py"])
+time.sleep(2.0)
+t = stop(talker)
+print(json.dumps({"talker": t, "listener": stop(listener)}))
+'''
+
+
+def _reference(ros_python: Callable[..., Any], body: str) -> Any:
+    head = f"SCRIPTS = {str(SCRIPTS)!r}\nPACKAGE = {str(PACKAGE)!r}\n"
+    return ros_python(_master_script() + head + GENERATE + body, as_json=True, timeout=120)
+
+
+def _shape(line: str) -> str:
+    """A log line with its numbers (times, pids, anonymous suffixes) replaced by N."""
+    return re.sub(r"N(_N)+", "N", re.sub(r"\d+(\.\d+)?", "N", line))
+
+
+def test_add_two_ints_prints_the_same_lines(ros_python: Callable[..., Any]) -> None:
+    theirs = _reference(ros_python, ADD_TWO_INTS)
+    printed: dict[str, list[str]] = {"server": [], "client": []}
+    world = ddes.World()
+    run_script(world, SCRIPTS / "add_two_ints_server.py",
+               print_line=lambda t, _e: printed["server"].append(t))
+    done, _ = run_script(world, SCRIPTS / "add_two_ints_client.py", ["3", "4"],
+                         print_line=lambda t, _e: printed["client"].append(t))
+    world.run(until=1.0)
+    assert theirs["code"] == done.value == 0
+    assert theirs["client"] == printed["client"] == ["Requesting 3+4", "3 + 4 = 7"]
+    assert theirs["server"] == printed["server"] == ["Ready to add two ints.",
+                                                     "Returning [3 + 4 = 7]"]
+
+
+def test_talker_and_listener_print_lines_of_the_same_shape(ros_python: Callable[..., Any]
+                                                           ) -> None:
+    theirs = _reference(ros_python, CHATTER)
+    lines: dict[str, list[str]] = {"talker": [], "listener": []}
+    world = ddes.World()
+    world.log_output = lambda line, _level: lines[
+        "listener" if "I heard" in line else "talker"].append(line)
+    run_script(world, SCRIPTS / "listener.py")
+    run_script(world, SCRIPTS / "talker.py")
+    world.run(until=2.0)
+    for who in ("talker", "listener"):
+        assert len(theirs[who]) >= 5, theirs
+        assert {_shape(line) for line in theirs[who]} == {_shape(line) for line in lines[who]}
+    # the listener hears what the talker said, in both
+    for said, heard in ((theirs["talker"], theirs["listener"]),
+                        (lines["talker"], lines["listener"])):
+        texts = {line.split("]: ", 1)[1] for line in said}
+        assert all(line.split("I heard ", 1)[1] in texts for line in heard)
