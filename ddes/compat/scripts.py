@@ -4,7 +4,8 @@
 (:func:`ddes.graph.blocking.spawn`).  The script's globals get their own
 ``__builtins__`` whose ``__import__`` resolves, for that script's code only:
 
-* ``rospy`` (and ``rospy.*``) to :mod:`ddes.compat.rospy`;
+* ``rospy`` (and ``rospy.*``) to :mod:`ddes.compat.rospy`, ``actionlib`` to
+  :mod:`ddes.compat.actionlib`;
 * ``<pkg>.msg`` / ``<pkg>.srv`` of every message package on the world's path
   (``from std_msgs.msg import String``, ``from rospy_tutorials.srv import
   AddTwoInts, AddTwoIntsResponse``) to modules of the world's message classes;
@@ -154,6 +155,10 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 from ddes.compat import rospy
 
                 return rospy
+            if top == "actionlib" and rest not in ("msg", "srv"):
+                from ddes.compat import actionlib
+
+                return actionlib
             if name == "sys":
                 return script_sys
             if rest in ("", "msg", "srv") and top not in sys.builtin_module_names:
