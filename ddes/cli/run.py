@@ -3,7 +3,9 @@
 * ``ddes run SCENARIO [--until T] [--seed N] [arg:=value ...]``: SCENARIO
   is a launch file (``*.launch``/``*.xml``) or a Python file defining
   ``def scenario(world): ...`` (it creates nodes, links, processes; the
-  world is then run).  Log lines print as ROS prints them, with simulated
+  world is then run), or rospy scripts run as nodes of one world
+  (``ddes run talker.py listener.py --until 5``; the words after a script are
+  its arguments).  Log lines print as ROS prints them, with simulated
   timestamps; at the end the simulated time, the number of trace events
   and the trace digest (same scenario + same seed = same digest).
 * ``ddes roslaunch PKG FILE.launch | PATH [--until T] [--seed N]
@@ -32,7 +34,7 @@ from ddes.time.units import ns_to_sec
 if TYPE_CHECKING:
     from ddes.graph.world import World
 
-__all__ = ["register", "run_launch", "run_scenario"]
+__all__ = ["is_rospy_script", "register", "run_launch", "run_scenario", "run_scripts"]
 
 _DEFAULT_UNTIL = 10.0
 
@@ -117,6 +119,43 @@ def run_scenario(path: str | Path, *, until: float, seed: int = 0,
     return world
 
 
+def is_rospy_script(path: str | Path) -> bool:
+    """True for a Python file that is a rospy script, not a ``def scenario(world)`` file."""
+    file = Path(path)
+    if file.suffix != ".py" or not file.is_file():
+        return False
+    return "def scenario(" not in file.read_text(encoding="utf-8", errors="replace")
+
+
+def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
+                out: Callable[[str], None] = _print_line) -> World:
+    """Run rospy scripts as nodes of one world (``talker.py listener.py``) for ``until`` seconds.
+
+    Each ``*.py`` word starts a script; the words after it, up to the next script, are its
+    arguments (``add_two_ints_client.py 3 4``, ``talker.py chatter:=/talk``).
+    """
+    from ddes.compat.scripts import run_script
+    from ddes.rospack import env_package_path
+    from ddes.world import World as FacadeWorld
+
+    commands: list[tuple[Path, list[str]]] = []
+    for word in words:
+        if word.endswith(".py"):
+            if not Path(word).is_file():
+                raise ROSConsoleError(f"script not found: {word}")
+            commands.append((Path(word), []))
+        elif commands:
+            commands[-1][1].append(word)
+        else:
+            raise ROSConsoleError(f"{word!r} comes before any script: ddes run a.py [args] b.py")
+    world = FacadeWorld(seed=seed, package_path=env_package_path(os.environ))
+    world.log_output = lambda line, level: out(line)
+    for path, args in commands:
+        run_script(world, path, args, print_line=lambda text, _stderr: out(text))
+    world.run(until=until)
+    return world
+
+
 def _summary(world: World, out: Callable[[str], None]) -> None:
     out(f"simulated {ns_to_sec(world.now):.3f} s; {len(world.trace)} trace events")
     out(f"trace digest: {world.digest()}")
@@ -138,6 +177,9 @@ def _main_run(args: argparse.Namespace) -> int:
     scenario = args.scenario
     if scenario.endswith((".launch", ".xml")):
         return _guard(lambda: _summary(run_launch([scenario, *words], until=until, seed=seed),
+                                       _print_line))
+    if is_rospy_script(scenario):
+        return _guard(lambda: _summary(run_scripts([scenario, *words], until=until, seed=seed),
                                        _print_line))
     if words:
         raise ROSConsoleError(f"unexpected arguments {words}: arg:=value goes with launch files")
@@ -161,7 +203,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("run", help="run a scenario (launch file or Python) and print its digest",
                        description="Run a launch file, or a Python file defining "
                                    "'def scenario(world)', on simulated time.")
-    p.add_argument("scenario", help="a .launch file, or a .py file defining scenario(world)")
+    p.add_argument("scenario", help="a .launch file, a .py file defining scenario(world), or "
+                                    "rospy scripts (talker.py listener.py) with their arguments")
     p.add_argument("--until", type=float, default=_DEFAULT_UNTIL,
                    help=f"simulated seconds to run (default {_DEFAULT_UNTIL:g})")
     p.add_argument("--seed", type=int, default=0, help="world seed (default 0)")

@@ -334,3 +334,32 @@ def test_rospy_exceptions_are_ddes_errors() -> None:
     assert not issubclass(rospy.ServiceException, rospy.ROSException)
     with pytest.raises(ROSException):
         raise rospy.ROSInitException("x")
+
+
+def test_ddes_run_runs_scripts_with_their_arguments() -> None:
+    from ddes.cli.run import is_rospy_script, run_scripts
+    from ddes.errors import ROSConsoleError
+
+    lines: list[str] = []
+    world = run_scripts([str(SCRIPTS / "add_two_ints_server.py"),
+                         str(SCRIPTS / "add_two_ints_client.py"), "3", "4"],
+                        until=1.0, out=lines.append)
+    assert lines == ["Ready to add two ints.", "Requesting 3+4", "Returning [3 + 4 = 7]",
+                     "3 + 4 = 7"]
+    assert world.now == 1_000_000_000
+    assert is_rospy_script(SCRIPTS / "talker.py")
+    with pytest.raises(ROSConsoleError, match="before any script"):
+        run_scripts(["3", str(SCRIPTS / "talker.py")], until=1.0)
+    with pytest.raises(ROSConsoleError, match="script not found"):
+        run_scripts(["nope.py"], until=1.0)
+
+
+def test_the_rospy_example_prints_the_same_under_three_hash_seeds() -> None:
+    example = Path(__file__).resolve().parents[2] / "examples" / "rospy_scripts.py"
+    outs = {subprocess.run([sys.executable, str(example)], capture_output=True, text=True,
+                           env={"PYTHONHASHSEED": seed, "PATH": "/usr/bin"}, check=True).stdout
+            for seed in ("0", "1", "12345")}
+    assert len(outs) == 1
+    out = outs.pop()
+    assert "[0.000400] (print) 3 + 4 = 7" in out and "watcher heard 199 messages" in out
+    assert "(print) Result: 0, 1, 1, 2, 3, 5, 8" in out
