@@ -14,6 +14,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 import ddes
 from ddes.compat.scripts import run_script
 
@@ -112,3 +114,54 @@ def test_talker_and_listener_print_lines_of_the_same_shape(ros_python: Callable[
                         (lines["talker"], lines["listener"])):
         texts = {line.split("]: ", 1)[1] for line in said}
         assert all(line.split("I heard ", 1)[1] in texts for line in heard)
+
+
+FIBONACCI = r'''
+from genpy.generator import MsgGenerator
+_msg_out = os.path.join(_gen, "actionlib_tutorials", "msg")
+os.makedirs(_msg_out)
+_files = sorted(os.path.join(MSGS, f) for f in os.listdir(MSGS))
+MsgGenerator().generate_messages("actionlib_tutorials", _files, _msg_out,
+                                 {"actionlib_tutorials": [MSGS],
+                                  "actionlib_msgs": ["/usr/share/actionlib_msgs/msg"],
+                                  "std_msgs": ["/usr/share/std_msgs/msg"]})
+open(os.path.join(_gen, "actionlib_tutorials", "__init__.py"), "w").close()
+with open(os.path.join(_msg_out, "__init__.py"), "w") as f:
+    for name in sorted(os.listdir(MSGS)):
+        f.write("from ._%s import *\n" % name[:-4])
+server = start_process([sys.executable, "-u", AL + "/fibonacci_server.py"])
+client = subprocess.run([sys.executable, "-u", AL + "/fibonacci_client.py"],
+                        capture_output=True, text=True, timeout=90, env=dict(os.environ))
+print(json.dumps({"server": stop(server), "client": client.stdout.splitlines(),
+                  "code": client.returncode}))
+'''
+
+
+@pytest.mark.slow
+def test_the_fibonacci_action_scripts_agree(ros_python: Callable[..., Any],
+                                            tmp_path: Path) -> None:
+    from ddes.msg import default_registry
+
+    registry = default_registry()
+    msgs = tmp_path / "msg"
+    msgs.mkdir()
+    for full in registry.list_types("actionlib_tutorials", "msg"):
+        if full.split("/")[1].startswith("Fibonacci"):
+            (msgs / (full.split("/")[1] + ".msg")).write_text(registry.get_msg_spec(full).text)
+    al = SCRIPTS.parents[1] / "actionlib_tutorials" / "scripts"
+    head = f"AL = {str(al)!r}\nMSGS = {str(msgs)!r}\n"
+    theirs = _reference(ros_python, head + FIBONACCI)
+
+    lines: list[str] = []
+    printed: list[str] = []
+    world = ddes.World()
+    world.log_output = lambda line, _level: lines.append(line)
+    run_script(world, al / "fibonacci_server.py")
+    done, _ = run_script(world, al / "fibonacci_client.py",
+                         print_line=lambda t, _e: printed.append(t))
+    world.run(until=30.0)
+    assert theirs["code"] == done.value == 0
+    assert theirs["client"] == printed
+    assert printed[0].startswith("Result: 0, 1, 1, 2, 3, 5") and printed[0].endswith("6765")
+    assert [line.split("]: ", 1)[1] for line in theirs["server"]] == \
+        [line.split("]: ", 1)[1] for line in lines]
