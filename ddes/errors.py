@@ -25,6 +25,7 @@ __all__ = [
     "DdesKeyError",
     "DdesTypeError",
     "DdesValueError",
+    "DeadlockError",
     "DeserializationError",
     "DigestError",
     "DynamicReconfigureCallbackException",
@@ -189,6 +190,11 @@ class BlockingOutsideNodeError(BlockingCallError):
 class BlockingInYieldCodeError(BlockingCallError):
     """A blocking call inside yield-style code (a node process or a generator callback):
     ``yield`` the event there, or write the code as plain blocking rospy."""
+
+
+class DeadlockError(BlockingCallError):
+    """A wait that can never end: a lock waiting, through its owners, on itself (the nodes
+    involved are named), or a wait outside any node that nothing could end."""
 
 
 class ROSNameException(DdesValueError):

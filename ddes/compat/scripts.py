@@ -9,6 +9,8 @@
 * ``<pkg>.msg`` / ``<pkg>.srv`` of every message package on the world's path
   (``from std_msgs.msg import String``, ``from rospy_tutorials.srv import
   AddTwoInts, AddTwoIntsResponse``) to modules of the world's message classes;
+* ``threading`` to :mod:`ddes.compat.threads` (locks, conditions, events and
+  threads on greenlets);
 * ``sys`` to a view of the real module whose ``argv`` is the script's command
   line (``rosrun`` arguments, remappings included, as ROS passes them).
 
@@ -146,6 +148,9 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
     """The ``__builtins__`` of a script: the real ones with its import and print."""
     real_import = builtins.__import__
     script_sys = _ScriptSys(context.argv)
+    from ddes.compat.threads import module
+
+    script_threading = module()
 
     def script_import(name: str, globals: Any = None, locals: Any = None,  # noqa: A002
                       fromlist: Sequence[str] = (), level: int = 0) -> Any:
@@ -161,6 +166,8 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 return actionlib
             if name == "sys":
                 return script_sys
+            if name == "threading":
+                return script_threading
             if rest in ("", "msg", "srv") and top not in sys.builtin_module_names:
                 pkg = _message_package(world, top)
                 if pkg is not None:
