@@ -363,3 +363,15 @@ def test_the_rospy_example_prints_the_same_under_three_hash_seeds() -> None:
     out = outs.pop()
     assert "[0.000400] (print) 3 + 4 = 7" in out and "watcher heard 199 messages" in out
     assert "(print) Result: 0, 1, 1, 2, 3, 5, 8" in out
+
+
+def test_the_script_in_docs_rospy_md_runs_as_shown(tmp_path: Path) -> None:
+    import re
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "rospy.md").read_text(encoding="utf-8")
+    block = re.findall(r"```python\n(.*?)```", doc, re.S)[0]
+    lines: list[str] = []
+    world = _world(lines)
+    run_script(world, _script(tmp_path, block, "talker.py"))
+    world.run(until=0.15)
+    assert lines == ["[INFO] [0.000000]: hello world 0.0", "[INFO] [0.100000]: hello world 0.1"]
