@@ -3,7 +3,7 @@
 * ``ddes run SCENARIO [--until T] [--seed N] [arg:=value ...]``: SCENARIO
   is a launch file (``*.launch``/``*.xml``) or a Python file defining
   ``def scenario(world): ...`` (it creates nodes, links, processes; the
-  world is then run), or rospy scripts run as nodes of one world
+  world is then run), or rospy scripts (files importing rospy) run as nodes of one world
   (``ddes run talker.py listener.py --until 5``; the words after a script are
   its arguments).  Log lines print as ROS prints them, with simulated
   timestamps; at the end the simulated time, the number of trace events
@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import os
+import re
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -120,11 +121,13 @@ def run_scenario(path: str | Path, *, until: float, seed: int = 0,
 
 
 def is_rospy_script(path: str | Path) -> bool:
-    """True for a Python file that is a rospy script, not a ``def scenario(world)`` file."""
+    """True for a Python file that imports rospy and defines no ``scenario(world)``."""
     file = Path(path)
     if file.suffix != ".py" or not file.is_file():
         return False
-    return "def scenario(" not in file.read_text(encoding="utf-8", errors="replace")
+    text = file.read_text(encoding="utf-8", errors="replace")
+    return "def scenario(" not in text and re.search(r"^\s*(import|from)\s+rospy\b", text,
+                                                     re.M) is not None
 
 
 def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
