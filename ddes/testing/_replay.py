@@ -74,7 +74,11 @@ def mark_violation(ax: Axes, start_s: float, end_s: float, label: str) -> None:
         band.set_gid(VIOLATION_GID)
     line = ax.axvline(end_s, color="#d62728", linestyle="--", linewidth=1.2)
     line.set_gid(VIOLATION_GID)
+    lo, hi = ax.get_xlim()
+    right = end_s > (lo + hi) / 2  # the text goes on the side with room, inside the axes
     text = ax.annotate(label, (end_s, 1.0), xycoords=("data", "axes fraction"),
-                       xytext=(4, -12), textcoords="offset points", color="#d62728", fontsize=7,
-                       va="top")
+                       xytext=(-4 if right else 4, -4), textcoords="offset points",
+                       color="#d62728", fontsize=7, va="top", ha="right" if right else "left",
+                       bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "alpha": 0.8,
+                             "edgecolor": "none"})
     text.set_gid(VIOLATION_GID)

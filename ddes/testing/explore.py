@@ -102,11 +102,10 @@ class Perturbation:
         """Set the world's links and install the tie order (before the scenario runs)."""
         jitter = self.jitter
         if jitter:
-            world.set_link(None, latency=lambda rng: rng.uniform(0.0, jitter))
+            world.set_link(None, latency=_Jittered(0.0, jitter))
         for topic, latency in self.latencies.items():
             if jitter:
-                world.set_link(topic, latency=lambda rng, base=latency: base + rng.uniform(
-                    0.0, jitter))
+                world.set_link(topic, latency=_Jittered(latency, jitter))
             else:
                 world.set_link(topic, latency=latency)
         for service, latency in self.service_latencies.items():
@@ -134,6 +133,16 @@ class Perturbation:
         if ties:
             out["ties"] = tuple(ties)
         return out
+
+
+class _Jittered:
+    """A latency drawn per message: ``base`` plus uniform ``[0, jitter]`` seconds."""
+
+    def __init__(self, base: float, jitter: float) -> None:
+        self.base, self.jitter = base, jitter
+
+    def __call__(self, rng: Any) -> float:
+        return self.base + float(rng.uniform(0.0, self.jitter))
 
 
 class TieBreaker:
@@ -174,11 +183,12 @@ class TieBreaker:
         queue = self.env._queue
         if len(queue) < 2:
             return
-        t, prio = queue[0][0], queue[0][1]
+        t: int = queue[0][0]  # type: ignore[assignment]  # ddes schedules int times only
+        prio = queue[0][1]
         if not (queue[1][0] == t and queue[1][1] == prio) and not (
                 len(queue) > 2 and queue[2][0] == t and queue[2][1] == prio):
             return
-        group = []
+        group: list[Any] = []
         while queue and queue[0][0] == t and queue[0][1] == prio:
             group.append(heappop(queue))
         candidates: list[int] = []

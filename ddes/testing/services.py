@@ -204,7 +204,7 @@ class ServiceProtocolMachine(RuleBasedStateMachine):
     handler: ClassVar[Callable[..., object] | None] = None
     make_server: ClassVar[ServerFactory | None] = None
     contract: ClassVar[Contract | None] = None
-    spinner: ClassVar[object] = "rospy"
+    spinner: ClassVar[str | int] = "rospy"
     clients: ClassVar[int] = 3
     settle: ClassVar[float] = 10.0
 
@@ -247,7 +247,7 @@ class ServiceProtocolMachine(RuleBasedStateMachine):
         name: str = "/service",
         contract: Contract | None = None,
         requests: st.SearchStrategy[Any] | None = None,
-        spinner: object = "rospy",
+        spinner: str | int = "rospy",
         clients: int = 3,
         settle: float = 10.0,
     ) -> type[ServiceProtocolMachine]:
@@ -909,7 +909,7 @@ def replay_service_schedule(service_class: type[ServiceDefinition] | str, steps:
                             seed: int = 0, *, handler: Callable[..., object] | None = None,
                             make_server: ServerFactory | None = None,
                             contract: Contract | None = None, name: str = "/service",
-                            spinner: object = "rospy", clients: int = 3,
+                            spinner: str | int = "rospy", clients: int = 3,
                             settle: float = 10.0) -> ServiceReplay:
     """Run a schedule (as a :class:`ServiceViolation` prints it) again, with every check."""
     machine = ServiceProtocolMachine.machine_for(
