@@ -13,7 +13,7 @@ from ddes.console.shell import Console
 from ddes.console.tooling import ToolContext
 from ddes.graph.world import World
 
-from .rostools import real_tool, ros_env, run_real
+from .rostools import real_python_tool, ros_env, run_real
 
 SESSION = """\
 rosmsg show rospy_tutorials/HeaderString
@@ -149,10 +149,12 @@ def test_rossrv_on_the_world_types(tmp_path: Path) -> None:
     "rosmsg show sensor_msgs/NavSatStatus",
     "rosmsg show HeaderString",
     "rosmsg show Floats",
+    "rosmsg show String",
     "rosmsg show Nope",
     "rosmsg show rospy_tutorials/Floats.msg",
     "rosmsg md5 geometry_msgs/Twist",
     "rosmsg md5 std_msgs/Header",
+    "rosmsg md5 Twist",
     "rosmsg md5 rospy_tutorials/Nope",
     "rosmsg md5 Nope",
     "rosmsg package rospy_tutorials",
@@ -161,8 +163,7 @@ def test_rossrv_on_the_world_types(tmp_path: Path) -> None:
 ])
 def test_same_text_as_real_rosmsg(console: Console, ros_python: Any, tmp_path: Path,
                                   line: str) -> None:
-    exe = real_tool("rosmsg")
-    code, out, err = run_real([exe, *line.split()[1:]], ros_env(tmp_path))
+    code, out, err = run_real([*real_python_tool("rosmsg"), *line.split()[1:]], ros_env(tmp_path))
     # rospack's complaint about this machine's rosdep set-up is not rosmsg's output
     err = "".join(x for x in err.splitlines(keepends=True) if "rosdep" not in x)
     result = console.execute(line)
@@ -173,8 +174,8 @@ def test_same_text_as_real_rosmsg(console: Console, ros_python: Any, tmp_path: P
 @pytest.mark.ros
 def test_unknown_type_reads_as_real_rosmsg(console: Console, ros_python: Any,
                                            tmp_path: Path) -> None:
-    exe = real_tool("rosmsg")
-    code, _out, err = run_real([exe, "show", "rospy_tutorials/Nope"], ros_env(tmp_path))
+    code, _out, err = run_real([*real_python_tool("rosmsg"), "show", "rospy_tutorials/Nope"],
+                               ros_env(tmp_path))
     result = console.execute("rosmsg show rospy_tutorials/Nope")
     assert result.code == code == 1
     # the same sentence up to where rosmsg prints its search path (a Python dict of folders)

@@ -33,6 +33,8 @@ from ddes.msg import (
 from ddes.rospack import BUNDLED_PATH
 from ddes.testing import messages
 
+from ..console.rostools import ONE_COPY_OF_EACH_PACKAGE
+
 pytestmark = pytest.mark.ros
 
 Runner = Callable[..., Any]
@@ -119,11 +121,13 @@ for item in json.load(sys.stdin):
 print(json.dumps(out))
 """
 
-_ROSMSG_SCRIPT = r"""
+# real rosmsg sees one copy of each package, ddes's (see ONE_COPY_OF_EACH_PACKAGE)
+_ROSMSG_SCRIPT = ONE_COPY_OF_EACH_PACKAGE + r"""
 import io, json, os, sys
 from contextlib import redirect_stdout, redirect_stderr
 req = json.load(sys.stdin)
 os.environ["ROS_PACKAGE_PATH"] = req["path"]
+os.environ.pop("CMAKE_PREFIX_PATH", None)
 import rosmsg
 out = []
 for argv in req["commands"]:
