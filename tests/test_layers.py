@@ -53,12 +53,15 @@ RANK = {name: i for i, group in enumerate(LAYERS) for name in group}
 
 
 def room_of(module: str) -> str:
-    """``ddes.graph.node`` -> ``graph``; ``ddes`` and ``ddes.world`` -> ``facade``."""
+    """``ddes.graph.node`` -> ``graph``; ``ddes`` and ``ddes.world`` -> ``facade``;
+    ``ddes.__main__`` (``python -m ddes``, an entry point of the command) -> ``cli``."""
     parts = module.split(".")
     if parts[0] != "ddes":
         raise ValueError(module)
-    if len(parts) == 1 or parts[1] in ("world", "__main__"):
+    if len(parts) == 1 or parts[1] == "world":
         return "facade"
+    if parts[1] == "__main__":
+        return "cli"
     return parts[1]
 
 

@@ -30,6 +30,11 @@ COMMAND_MODULES: tuple[str, ...] = (
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser; ROS tool subcommands register here as they land."""
+    return _build()[0]
+
+
+def _build() -> tuple[argparse.ArgumentParser, list[str]]:
+    """The parser and its command names, in the order ``ddes -h`` lists them."""
     parser = argparse.ArgumentParser(
         prog="ddes",
         description="Deterministic discrete-event ROS 1 testbed on simulated time.",
@@ -41,13 +46,13 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--until", type=float, default=2.0, help="simulated seconds (default 2)")
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(sub)
-    return parser
+    return parser, list(sub.choices)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``ddes`` command; returns the exit code (141 when standard output is a closed
     pipe: ``ddes rosbag info x.bag | head -1`` ends quietly)."""
-    parser = build_parser()
+    parser, commands = _build()
     args = parser.parse_args(argv)
     try:
         if args.command == "demo":
@@ -57,14 +62,15 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         if getattr(args, "func", None) is not None:
             return int(args.func(args))
-        parser.print_help()
-        return 0
     except BrokenPipeError:  # `ddes ... | head`: the reader left; end quietly, as a shell shows
         _silence_stdout()
         return EXIT_BROKEN_PIPE
     except DdesError as exc:
         print(f"ERROR: {exc}", file=sys.stderr)
         return 1
+    # No command: the usage and an error on stderr, exit 2, as argparse does for any missing
+    # argument (``ddes -h`` prints the help and exits 0).
+    parser.error(f"a command is required: {', '.join(commands)} ('ddes -h' says more)")
 
 
 def _silence_stdout() -> None:
