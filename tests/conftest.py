@@ -1,4 +1,8 @@
-"""Shared fixtures: a fresh world, and a runner for real ROS 1 (system Python).
+"""Shared fixtures: strict worlds, and a runner for real ROS 1 (system Python).
+
+``world`` (a fresh ``ddes.World`` on ``--ddes-seed``, 0 by default) and ``ddes_seed`` come from
+ddes's own pytest plugin (ddes/testing/pytest_plugin.py), which pytest loads wherever ddes is
+installed; the console tests' ``console`` (tests/console/conftest.py) builds on ``ddes_seed``.
 
 Tests marked ``ros`` compare ddes with real ROS 1 Noetic (Debian packages,
 which run under Debian's system Python, not the virtual environment).  The
@@ -18,8 +22,6 @@ from typing import Any
 
 import pytest
 from hypothesis import HealthCheck, settings
-
-import ddes
 
 # Simulated time makes every test deterministic, but the 2-core CI machine's
 # wall-clock speed is not: no per-example deadlines, no "too slow" checks.
@@ -87,8 +89,3 @@ def ros_python() -> Callable[..., Any]:
 
     return run
 
-
-@pytest.fixture
-def world() -> ddes.World:
-    """A fresh world with seed 0."""
-    return ddes.World(seed=0)

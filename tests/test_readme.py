@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from .docsnippets import run_snippet
+
 README = Path(__file__).resolve().parent.parent / "README.md"
 BLOCKS = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), flags=re.S)
 
@@ -21,7 +23,7 @@ def test_readme_has_snippets() -> None:
 def test_readme_snippet_runs(index: int) -> None:
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        exec(compile(BLOCKS[index], f"README.md[python block {index}]", "exec"), {})
+        run_snippet(BLOCKS[index], README, index)
     assert out.getvalue()  # every snippet prints something
 
 

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import matplotlib
 
+from ..docsnippets import run_snippet
+
 matplotlib.use("Agg")
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "actionlib.md"
@@ -18,5 +20,5 @@ def test_servers_and_clients_section_runs() -> None:
     blocks = [b.split("```", 1)[0] for b in section.split("```python\n")[1:]]
     assert len(blocks) >= 4
     namespace: dict[str, object] = {}
-    for block in blocks:
-        exec(compile(block, str(DOC), "exec"), namespace)
+    for i, block in enumerate(blocks):
+        run_snippet(block, DOC, f"'Servers and clients on topics' block {i}", namespace)

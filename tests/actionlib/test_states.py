@@ -34,6 +34,7 @@ from ddes.actionlib import (
 )
 from ddes.errors import DdesTypeError, DdesValueError
 
+from ..docsnippets import run_snippet
 from .ros_harness import (
     COMM_SCRIPT,
     COMM_TABLE_SCRIPT,
@@ -386,5 +387,5 @@ def test_doc_race_snippets_run() -> None:
     section = text.split("## Known ROS races, made replayable", 1)[1].split("\n## ", 1)[0]
     blocks = [b.split("```", 1)[0] for b in section.split("```python\n")[1:]]
     assert len(blocks) >= 5
-    for block in blocks:
-        exec(compile(block, str(DOC), "exec"), {})
+    for i, block in enumerate(blocks):
+        run_snippet(block, DOC, f"'Known ROS races' block {i}")

@@ -8,9 +8,14 @@ from ddes.console.shell import Console
 
 
 @pytest.fixture
-def console() -> Console:
-    """A console (seed 0, ``/rosout`` running) whose output is only captured, never printed."""
-    return Console(seed=0, out=lambda _line: None)
+def console(ddes_seed: int) -> Console:
+    """A console (``/rosout`` running) whose output is only captured, never printed.
+
+    It overrides the ``console`` of ddes's pytest plugin, whose between-command output goes to
+    standard output; its seed is the plugin's (``--ddes-seed``, 0 by default), so a failing
+    test prints its replay command.
+    """
+    return Console(seed=ddes_seed, out=lambda _line: None)
 
 
 @pytest.fixture

@@ -9,6 +9,8 @@ import pytest
 
 from ddes.console.shell import Console
 
+from ..docsnippets import run_snippet
+
 DOC = Path(__file__).resolve().parents[2] / "docs" / "console.md"
 TEXT = DOC.read_text()
 TRANSCRIPTS = re.findall(r"<!-- transcript -->\n```text\n(.*?)```", TEXT, flags=re.S)
@@ -27,9 +29,10 @@ def test_transcript_is_what_the_console_prints(block: str) -> None:
     assert text == block
 
 
-@pytest.mark.parametrize("code", PYTHON, ids=[f"python{i}" for i in range(len(PYTHON))])
-def test_snippet_runs(code: str) -> None:
-    exec(compile(code, str(DOC), "exec"), {})  # noqa: S102 - our own documentation; asserts inside
+@pytest.mark.parametrize("index", range(len(PYTHON)),
+                         ids=[f"python{i}" for i in range(len(PYTHON))])
+def test_snippet_runs(index: int) -> None:
+    run_snippet(PYTHON[index], DOC, index)  # asserts inside
 
 
 def test_the_command_table_lists_every_console_command() -> None:

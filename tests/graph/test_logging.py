@@ -9,6 +9,8 @@ import pytest
 import ddes
 from ddes.graph.rosout import LOGGER, logger_name
 
+from ..docsnippets import run_snippet
+
 
 def _talk(world: ddes.World) -> None:
     node = world.create_node("talker", namespace="/robot")
@@ -84,6 +86,6 @@ def test_the_logging_snippet_of_docs_graph_md_runs(capsys: pytest.CaptureFixture
     section = text[text.index("## Logging"):text.index("## Waiting")]
     blocks = re.findall(r"```python\n(.*?)```", section, flags=re.S)
     assert blocks
-    for block in blocks:
-        exec(compile(block, "docs_graph_md_snippet.py", "exec"), {})  # noqa: S102 - our own docs
+    for i, block in enumerate(blocks):
+        run_snippet(block, "docs/graph.md", f"'Logging' block {i}")
     assert "not shown" not in capsys.readouterr().out

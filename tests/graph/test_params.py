@@ -25,6 +25,8 @@ from ddes.errors import (
 )
 from ddes.graph.params import ParamServer, to_xmlrpc
 
+from ..docsnippets import run_snippet
+
 # -- the tree rules ---------------------------------------------------------------------------------
 
 
@@ -662,4 +664,4 @@ def test_docs_have_snippets() -> None:
 
 @pytest.mark.parametrize("index", range(len(_snippets())))
 def test_docs_snippet_runs(index: int) -> None:
-    exec(compile(_snippets()[index], f"{DOC}#snippet{index}", "exec"), {})
+    run_snippet(_snippets()[index], DOC, index)

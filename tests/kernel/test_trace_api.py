@@ -16,6 +16,8 @@ from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import TRACE_KINDS
 from ddes.kernel.trace import Trace, TraceEvent, TraceSelection
 
+from ..docsnippets import run_snippet
+
 _FIRE = ("expected", "real")
 _PUB = ("topic", "seq", "connections")
 
@@ -492,8 +494,8 @@ def test_the_snippets_of_docs_trace_md_run() -> None:
     blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
     assert len(blocks) >= 3
     namespace: dict[str, Any] = {}
-    for block in blocks:
-        exec(compile(block, "docs/trace.md", "exec"), namespace)  # noqa: S102
+    for i, block in enumerate(blocks):
+        run_snippet(block, "docs/trace.md", i, namespace)
 
 
 # -- issue 13: a digest that means what it says ----------------------------------------------

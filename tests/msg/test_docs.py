@@ -6,6 +6,8 @@ import re
 from pathlib import Path
 from typing import Any
 
+from ..docsnippets import run_snippet
+
 DOC = Path(__file__).resolve().parents[2] / "docs" / "messages.md"
 BLOCKS = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S)
 
@@ -17,4 +19,4 @@ def test_the_doc_has_snippets() -> None:
 def test_snippets_run_in_order() -> None:
     namespace: dict[str, Any] = {}
     for i, code in enumerate(BLOCKS):
-        exec(compile(code, f"{DOC}:block{i}", "exec"), namespace)  # noqa: S102 - our own doc
+        run_snippet(code, DOC, i, namespace)

@@ -10,6 +10,8 @@ import pytest
 
 from ddes.console.shell import Console
 
+from ..docsnippets import run_snippet
+
 DOC = Path(__file__).resolve().parents[2] / "docs" / "bags.md"
 TEXT = DOC.read_text()
 BLOCKS = re.findall(r"```python\n(.*?)```", TEXT, flags=re.S)
@@ -22,8 +24,8 @@ def test_the_doc_has_snippets() -> None:
 
 def test_snippets_run_in_order(utc: None) -> None:
     scope: dict[str, object] = {}
-    for code in BLOCKS:
-        exec(compile(code, str(DOC), "exec"), scope)  # noqa: S102 - our own documentation
+    for i, code in enumerate(BLOCKS):
+        run_snippet(code, DOC, i, scope)
 
 
 @pytest.mark.parametrize("block", TRANSCRIPTS,

@@ -11,6 +11,8 @@ from pathlib import Path
 import matplotlib
 import pytest
 
+from ..docsnippets import run_snippet
+
 matplotlib.use("Agg")
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "testing.md"
@@ -41,8 +43,7 @@ def test_the_example_finds_and_shrinks_its_planted_bug(name: str, tmp_path: Path
     for part in parts:  # "explore", then "explore-ties" in the same namespace
         out = io.StringIO()
         with contextlib.redirect_stdout(out):
-            exec(compile(found[("example", part)], f"docs/testing.md:{part}", "exec"),  # noqa: S102
-                 namespace)
+            run_snippet(found[("example", part)], DOC, part, namespace)
         assert out.getvalue() == found[("output", part)], part
     if name == "actions":
         assert (tmp_path / "deaf_server.png").stat().st_size > 0
