@@ -23,7 +23,7 @@ ROOT = REPO / "ddes" if (REPO / "ddes" / "__init__.py").is_file() else Path(ddes
 #: Bottom to top.  A group of several names is one layer of peers.
 LAYERS: list[tuple[str, ...]] = [
     ("errors", "_version"),
-    ("expr", "display"),
+    ("expr", "display", "transformations"),
     ("time",),
     ("kernel",),
     ("rospack",),
