@@ -15,8 +15,12 @@ would stop pytest and Jupyter kernels, so ddes's is not.
 
 from __future__ import annotations
 
+import io
+
 __all__ = [
     "BadYieldError",
+    "BagNotFoundError",
+    "BagReadOnlyError",
     "BlockingCallError",
     "BlockingInYieldCodeError",
     "BlockingOutsideNodeError",
@@ -267,6 +271,14 @@ class ROSBagUnindexedException(ROSBagException):
 
 class ROSBagEncryptNotSupportedException(ROSBagException):
     """The bag uses an encryption ddes does not support."""
+
+
+class BagNotFoundError(DdesError, FileNotFoundError):
+    """rosbag.Bag(path) of a file that does not exist (rosbag's FileNotFoundError)."""
+
+
+class BagReadOnlyError(DdesValueError, io.UnsupportedOperation):
+    """A write to a bag opened for reading (rosbag's io.UnsupportedOperation)."""
 
 
 class ROSLaunchException(DdesError):
