@@ -179,6 +179,19 @@ _ALL: tuple[TraceKind, ...] = (
        "rosbag play --loop went round again (loops so far, messages published)."),
     _k("rosbag.done", "reason published", "rosbag",
        "rosbag play finished (reason, messages published)."),
+    # -- sim: the 2D robot -------------------------------------------------------------
+    _k("sim.pose", "stamp x y yaw v w", "sim",
+       "The simulated robot's true state at 10 Hz: stamp (simulated ns), x, y, yaw, v, w as "
+       "float.hex strings, so the physics is inside the digest."),
+    _k("sim.collision", "obstacle speed normal_x normal_y stamp", "sim",
+       "The robot's footprint touched an obstacle (recorded when the contact begins): speed "
+       "and the contact normal as float.hex, stamp in simulated ns."),
+    _k("sim.pause", "paused", "sim",
+       "The simulator's physics paused (true) or went on (false)."),
+    _k("sim.reset", "x y yaw", "sim",
+       "The simulator put the robot back at its start pose (float.hex)."),
+    _k("sim.place", "x y yaw", "sim",
+       "The simulator placed the robot at a new pose (float.hex)."),
 )
 
 #: Every kind ddes records, by name (read-only).

@@ -38,7 +38,8 @@ def test_catalogue_is_read_only_and_well_formed() -> None:
         assert isinstance(k, TraceKind) and k.kind == name
         assert name == name.strip() and not name.endswith(".") and "|" not in k.doc
         assert len(set(k.all_fields)) == len(k.all_fields), name
-        assert k.layer in {"graph", "services", "actionlib", "rosbag", "nodes", "dynamic_reconfigure"}
+        assert k.layer in {"graph", "services", "actionlib", "rosbag", "nodes", "dynamic_reconfigure",
+                           "sim"}
         assert k.doc and all(isinstance(f, str) and f.isidentifier() for f in k.all_fields)
         assert not set(k.all_fields) & {"t", "kind", "source"}, name  # to_rows stays flat
 
@@ -462,10 +463,30 @@ def _reconfigure() -> ddes.World:
     return world
 
 
+def _sim() -> ddes.World:
+    from ddes.msg import get_message_class
+    from ddes.sim import Simulator, WorldSpec
+
+    world = ddes.World(seed=9)
+    sim = Simulator(world, WorldSpec.load("single_pillar"), x=17.5, y=5.0)
+    driver = world.create_node("driver")
+    twist = get_message_class("geometry_msgs/Twist")
+    vector3 = get_message_class("geometry_msgs/Vector3")
+    pub = driver.advertise("/cmd_vel", twist, queue_size=1)
+    driver.create_timer(0.1, lambda event: pub.publish(twist(linear=vector3(x=1.0))))
+    world.run(until=3.0)
+    sim.pause()
+    sim.resume()
+    sim.place(0.0, 0.0, 0.0)
+    sim.reset()
+    world.run(until=3.5)
+    return world
+
+
 SCENARIOS: dict[str, Callable[..., ddes.World]] = {
     "demo": _demo, "graph": _graph, "services": _services, "actions": _actions,
     "action_protocol": _action_protocol, "bags": _bags,
-    "node_exit": _node_exit, "reconfigure": _reconfigure,
+    "node_exit": _node_exit, "reconfigure": _reconfigure, "sim": _sim,
 }
 
 #: Kinds each scenario must produce (so the checks above really ran on them).
@@ -485,6 +506,7 @@ EXPECTED = {
     "bags": {"rosbag.play", "rosbag.loop", "rosbag.done", "rosbag.record", "rosbag.stop"},
     "node_exit": {"node.exit"},
     "reconfigure": {"reconfigure.update"},
+    "sim": {"sim.pose", "sim.collision", "sim.pause", "sim.place", "sim.reset"},
 }
 
 
