@@ -31,6 +31,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("graph",),
     ("services",),
     ("actionlib", "dynamic_reconfigure", "rosbag", "tf2"),
+    ("tf2_ros",),
     ("sim",),
     ("compat",),
     ("nodes", "packages"),

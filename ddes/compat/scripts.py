@@ -5,7 +5,8 @@
 ``__builtins__`` whose ``__import__`` resolves, for that script's code only:
 
 * ``rospy`` (and ``rospy.*``) to :mod:`ddes.compat.rospy`, ``actionlib`` to
-  :mod:`ddes.compat.actionlib`, ``rosbag`` to :mod:`ddes.compat.rosbag`;
+  :mod:`ddes.compat.actionlib`, ``rosbag`` to :mod:`ddes.compat.rosbag`,
+  ``tf2_ros`` to :mod:`ddes.compat.tf2_ros`;
 * ``<pkg>.msg`` / ``<pkg>.srv`` of every message package on the world's path
   (``from std_msgs.msg import String``, ``from rospy_tutorials.srv import
   AddTwoInts, AddTwoIntsResponse``) to modules of the world's message classes;
@@ -164,6 +165,10 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 from ddes.compat import actionlib
 
                 return actionlib
+            if name == "tf2_ros":
+                from ddes.compat import tf2_ros
+
+                return tf2_ros
             if top == "rosbag" and rest not in ("msg", "srv"):
                 from ddes.compat import rosbag
 

@@ -462,6 +462,7 @@ class Subscriber(Generic[_C_co]):
         else:
             cls = self.data_class
             msg = cls.__new__(cls)._deserialize_from(data)
+            msg._connection_header = conn.header  # type: ignore[attr-defined]  # as rospy sets it
         cbq = self._cbq
         if self._internal or (cbq.free and not self._queue and not self.cb_active):
             # The spinner is free: deliver now, through the node's runner.
