@@ -6,7 +6,8 @@
 
 * ``rospy`` (and ``rospy.*``) to :mod:`ddes.compat.rospy`, ``actionlib`` to
   :mod:`ddes.compat.actionlib`, ``rosbag`` to :mod:`ddes.compat.rosbag`,
-  ``tf2_ros`` to :mod:`ddes.compat.tf2_ros`;
+  ``tf2_ros`` to :mod:`ddes.compat.tf2_ros`, ``dynamic_reconfigure`` (and ``<pkg>.cfg``)
+  to :mod:`ddes.compat.dynamic_reconfigure`;
 * ``<pkg>.msg`` / ``<pkg>.srv`` of every message package on the world's path
   (``from std_msgs.msg import String``, ``from rospy_tutorials.srv import
   AddTwoInts, AddTwoIntsResponse``) to modules of the world's message classes;
@@ -173,6 +174,12 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 from ddes.compat import rosbag
 
                 return rosbag
+            if (top == "dynamic_reconfigure" and rest not in ("msg", "srv")) or rest == "cfg":
+                from ddes.compat.dynamic_reconfigure import resolve_import
+
+                found = resolve_import(world, top, rest, fromlist)
+                if found is not None:
+                    return found
             if name == "sys":
                 return script_sys
             if name == "threading":
