@@ -417,10 +417,18 @@ class Simulator:
         self._odometry()
 
     def _hit(self, x: float, y: float, yaw: float) -> Prepared | None:
-        s, c = sincos(yaw)
         fp = self._fp
+        reach0 = fp[2]
+        heading: tuple[float, float] | None = None
         for p in self._prepared:
-            if collides(fp, x, y, s, c, p):
+            fx = p.bx - x
+            fy = p.by - y
+            reach = reach0 + p.br
+            if fx * fx + fy * fy > reach * reach * 1.0001 + 1e-12:
+                continue  # the bounding circles are apart: no trig needed
+            if heading is None:
+                heading = sincos(yaw)
+            if collides(fp, x, y, heading[0], heading[1], p):
                 return p
         return None
 
