@@ -143,7 +143,7 @@ def test_a_script_server_with_the_packages_cfg(tmp_path: Path) -> None:
     assert len(out["seen"]["updates"]) == 3
 
 
-def test_rosrun_finds_the_script_and_params_come_from_the_server(tmp_path: Path) -> None:
+def test_parameters_already_on_the_server_override_the_defaults_clamped(tmp_path: Path) -> None:
     pkg = _package(tmp_path)
     world = ddes.World(package_path=[tmp_path])
     logs: list[str] = []
@@ -247,3 +247,30 @@ def test_agrees_with_the_real_server(ros_python: Callable[..., Any], tmp_path: P
     assert [b.hex() for b in ours["seen"]["descriptions"]] == theirs["published"]["descriptions"]
     assert [b.hex() for b in ours["seen"]["updates"]] == theirs["published"]["updates"]
     assert ours["printed"] == [theirs["now"]]
+
+
+def test_the_package_in_docs_rospy_md_runs_as_described(tmp_path: Path) -> None:
+    import re
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "rospy.md").read_text(encoding="utf-8")
+    section = doc.split("\n## dynamic_reconfigure\n", 1)[1].split("\n## ", 1)[0]
+    cfg, server = re.findall(r"```python\n(.*?)```", section, re.S)
+    pkg = tmp_path / "dynamic_tutorials"
+    (pkg / "cfg").mkdir(parents=True)
+    (pkg / "scripts").mkdir()
+    (pkg / "package.xml").write_text(PACKAGE_XML.replace("my_robot", "dynamic_tutorials"),
+                                     encoding="utf-8")
+    (pkg / "cfg" / "Tutorials.cfg").write_text(cfg, encoding="utf-8")
+    (pkg / "scripts" / "server.py").write_text(server, encoding="utf-8")
+    (tmp_path / "client.py").write_text(CLIENT.replace("my_robot", "dynamic_tutorials"),
+                                        encoding="utf-8")
+    world = ddes.World(package_path=[tmp_path])
+    logs: list[str] = []
+    world.log_output = lambda line, _level: logs.append(line)
+    run_script(world, pkg / "scripts" / "server.py")
+    run_script(world, tmp_path / "client.py")
+    world.run(until=1.0)
+    assert [line.split("]: ", 1)[1] for line in logs] == [
+        "Reconfigure Request: 50, 0.5, Hello World, True, 1",
+        "Reconfigure Request: 13, 1.0, hi, True, 1"]
+    assert world.params.get_param("/dynamic_tutorials/int_param") == 13

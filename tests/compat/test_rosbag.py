@@ -11,6 +11,7 @@ and text of rosbag's errors in both.
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -57,6 +58,7 @@ with rosbag.Bag(sys.argv[1], "a") as bag:
 
 READER = r'''
 import json
+import re
 import sys
 import rosbag
 import rospy
@@ -101,6 +103,7 @@ print(json.dumps(out))
 ERRORS = r'''
 import io
 import json
+import re
 import os
 import sys
 import rosbag
@@ -289,3 +292,18 @@ def test_appending_to_the_others_bag(ros_python: Callable[..., Any], tmp_path: P
     assert readings[0]["topics"]["/count"][:3] == ["std_msgs/Int32", 12, 2]
     assert readings[0]["messages"][-1] == ["/new", "std_msgs/String", {"data": "new"},
                                            [1021, 0]]
+
+
+def _doc_section(title: str) -> str:
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "rospy.md").read_text(encoding="utf-8")
+    return doc.split(f"\n## {title}\n", 1)[1].split("\n## ", 1)[0]
+
+
+def test_the_script_in_docs_rospy_md_prints_what_it_shows(tmp_path: Path,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    section = _doc_section("rosbag")
+    script = re.findall(r"```python\n(.*?)```", section, re.S)[0]
+    shown = re.findall(r"```text\n(.*?)```", section, re.S)[0]
+    (tmp_path / "recorder.py").write_text(script, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert _ddes(tmp_path / "recorder.py", until=5.0) == shown.rstrip("\n")
