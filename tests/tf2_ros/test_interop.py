@@ -3,7 +3,8 @@
 The real side runs Debian's ``/usr/lib/tf2_ros/static_transform_publisher`` (both argument
 forms) and ``/usr/lib/tf/tf_echo`` on a real rosmaster; ddes runs the same command lines in its
 console.  The blocks tf_echo prints for the same static transforms are identical (failure blocks
-too, but for the wall-clock time of ``Failure at``).
+too, but for the wall-clock time of ``Failure at``), and the transforms both forms of tf2_ros's
+program and tf1's periodic one publish are the same bits.
 """
 
 from __future__ import annotations
@@ -16,7 +17,10 @@ from typing import Any
 
 import pytest
 
+import ddes
 from ddes.console.shell import Console
+from ddes.msg import get_message_class
+from ddes.nodes import start_node
 
 pytestmark = pytest.mark.ros
 
@@ -90,3 +94,56 @@ def test_tf_echo_prints_what_the_real_one_prints(ros_python: Callable[..., Any])
     assert ours_usage == theirs["usage"][:-1]
     assert usage.code == int(theirs["usage"][-1]) == 255
 
+
+
+PUBLISHED = r'''
+import time
+import rospy
+from tf2_msgs.msg import TFMessage
+pubs = [start_process(["/usr/lib/tf2_ros/static_transform_publisher"] + a.split()) for a in ARGS]
+tf1 = start_process(["/usr/lib/tf/static_transform_publisher"] + TF1.split())
+rospy.init_node("probe")
+got = {}
+def keep(msg):
+    for t in msg.transforms:
+        r, v = t.transform.rotation, t.transform.translation
+        got[t.child_frame_id] = [t.header.frame_id, v.x, v.y, v.z, r.x, r.y, r.z, r.w]
+static = rospy.Subscriber("/tf_static", TFMessage, keep)
+m = rospy.wait_for_message("/tf", TFMessage, timeout=30)
+now = rospy.Time.now()
+keep(m)
+future = (m.transforms[0].header.stamp - now).to_sec()
+deadline = time.time() + 30
+while len(got) < len(ARGS) + 1 and time.time() < deadline:
+    time.sleep(0.05)
+print(json.dumps({"got": got, "future": future}))
+'''
+TF1 = "0.5 -1 2 -2.5 0.7 3.1 odom base 100"
+
+
+def test_static_transform_publishers_send_the_same_bits(ros_python: Callable[..., Any]) -> None:
+    """Both tf2_ros forms and tf1's: the same frames, translation and quaternion, bit for bit."""
+    if not (os.path.exists("/usr/lib/tf/static_transform_publisher")
+            and os.path.exists("/usr/lib/tf2_ros/static_transform_publisher")):
+        pytest.skip("real tf/tf2_ros programs are not installed (bash .ci/install-ros)")
+    body = f"ARGS = {STATIC!r}\nTF1 = {TF1!r}\nimport json\n" + PUBLISHED
+    theirs = ros_python(_master_script() + body, as_json=True, timeout=180)
+    world = ddes.World()
+    got: dict[str, list[Any]] = {}
+
+    def keep(msg: Any) -> None:
+        for t in msg.transforms:
+            r, v = t.transform.rotation, t.transform.translation
+            got[t.child_frame_id] = [t.header.frame_id, v.x, v.y, v.z, r.x, r.y, r.z, r.w]
+
+    probe = world.create_node("probe")
+    tf_message = get_message_class("tf2_msgs/TFMessage")
+    ddes.Subscriber(probe, "/tf_static", tf_message, keep)
+    ddes.Subscriber(probe, "/tf", tf_message, keep)
+    world.run(until=0.01)
+    for args in STATIC:
+        start_node(world, "tf2_ros", "static_transform_publisher", argv=args.split())
+    start_node(world, "tf", "static_transform_publisher", argv=TF1.split())
+    world.run(until=0.5)
+    assert got == theirs["got"]
+    assert abs(theirs["future"] - 0.1) < 0.05  # stamped a period ahead there too
