@@ -147,3 +147,16 @@ def test_plot_frames_draws_the_tree() -> None:
 def test_atof_reads_as_c_does() -> None:
     assert [atof(x) for x in ("1.5", "-2e3", "3m", "abc", ".5", " 7")] == [
         1.5, -2000.0, 3.0, 0.0, 0.5, 7.0]
+
+
+def test_the_programs_start_from_a_launch_file(tmp_path: Path) -> None:
+    launch = tmp_path / "tf.launch"
+    launch.write_text(
+        '<launch>\n'
+        '  <node pkg="tf2_ros" type="static_transform_publisher" name="laser_tf"\n'
+        '        args="0.2 0 0.1 0 0 0 base_link laser"/>\n'
+        '  <node pkg="tf" type="tf_echo" name="echo" args="base_link laser" output="screen"/>\n'
+        '</launch>\n')
+    out = Console(seed=0).run(f"roslaunch --duration 1.5 {launch}")
+    assert out.count("- Translation: [0.200, 0.000, 0.100]") == 2
+    assert "process[laser_tf-1]: started with pid" in out
