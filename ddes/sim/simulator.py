@@ -10,9 +10,9 @@ Kinematics (SMB values from ``smb_control/config/control.yaml`` and the URDF): a
 base_link; the ``/cmd_vel`` command (zero once older than ``cmd_vel_timeout`` = 0.25 s) is
 clamped to |v| <= 1.1 m/s, |w| <= 1.1 rad/s; v and w slew toward it within |a| <= 2 m/s^2,
 |alpha| <= 3 rad/s^2; midpoint integration; the footprint (0.605 x 0.410 m) is tested against
-every obstacle at the new pose.  On contact the robot keeps its previous position, v = 0 (the
-turn is kept when turning alone is free), a :class:`Collision` is recorded (once per contact)
-and the IMU shows a crash pulse.
+every obstacle at the new pose.  On contact the robot goes as far along the step as is free
+(bisection), v = 0 (the turn is kept when turning alone is free), a :class:`Collision` is
+recorded (once per contact: pressing on does not record again) and the IMU shows a crash pulse.
 
 Noise (off with ``noise=False``): each sensor draws from its own stream of the world's seed,
 ``world.rng_for("sim/<node>/<sensor>")`` (``odom``, ``imu``, ``scan``), so adding a sensor
@@ -410,6 +410,17 @@ class Simulator:
                 self._yaw, self._w = nyaw, w
             else:
                 self._w = 0.0
+            # move as far along the step as is free (bisection to 2**-20 of a step), so the
+            # robot rests against the obstacle and pressing on is one contact, not many
+            lo, hi = 0.0, 1.0
+            dx, dy = nx - x, ny - y
+            for _ in range(20):
+                mid = 0.5 * (lo + hi)
+                if self._hit(x + mid * dx, y + mid * dy, self._yaw) is None:
+                    lo = mid
+                else:
+                    hi = mid
+            self._x, self._y = x + lo * dx, y + lo * dy
             self._v = 0.0
             if self._contact != hit.obstacle.name:
                 self._collide(hit, speed)
