@@ -497,8 +497,8 @@ def _sdf_shape(geom: _El, pose: tuple[float, float, float], name: str, source: s
 def generate_obstacle_field(seed: int = 2026, count: int = 40) -> WorldSpec:
     """The bundled ``obstacle_field`` world: ``count`` pillars and crates drawn from ``seed``.
 
-    Obstacles lie in x 2..30 m, y -10..10 m, none within 1.5 m of the origin's footprint, each
-    value rounded to millimetres (``round`` is exact on every machine).  The committed
+    Centres lie in x 2..30 m, y -10..10 m (so the robot's footprint at the origin is free),
+    each value rounded to millimetres (``round`` is exact on every machine).  The committed
     ``worlds/obstacle_field.yaml`` is ``generate_obstacle_field().to_yaml()``
     (tests/sim/test_worlds.py checks it).
     """
