@@ -59,7 +59,7 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
 
 __all__ = ["INIT_TEXT", "GreenTask", "attach", "current_node", "current_task", "is_blocking_node",
-           "run_callback", "spawn", "wait"]
+           "run_callback", "run_callback1", "spawn", "wait"]
 
 #: rospy's text for ROS time read before ``init_node`` (``rospy.rostime.get_rostime``).
 INIT_TEXT = "time is not initialized. Have you called init_node()?"
@@ -79,6 +79,11 @@ class GreenTask(greenlet):  # type: ignore[misc]  # greenlet ships no stubs for 
     there for it.
     """
 
+    # Slots: a greenlet's own attributes live in a dict, several times slower to read and
+    # write, and these are touched on every blocking call and every callback.
+    __slots__ = ("world", "node", "context", "waiting", "blocked", "on_end", "_interrupt",
+                 "_interruptible", "_wake")
+
     def __init__(self, world: World, node: Node | None, run: Callable[..., object],
                  context: object = None) -> None:
         super().__init__(run)
@@ -94,14 +99,23 @@ class GreenTask(greenlet):  # type: ignore[misc]  # greenlet ships no stubs for 
         self.on_end: Callable[[], object] | None = None
         self._interrupt: BaseException | None = None
         self._interruptible = True
+        #: ``resume`` bound once: :func:`wait` appends it to the callbacks of each event it waits on.
+        self._wake = self.resume
 
     def resume(self, event: simpy.Event) -> None:
         """The event this task waits on fired (a kernel callback): run the task on from there."""
         if self.waiting is not event or self.dead:
             return  # woken earlier (an interrupt); the event no longer concerns it
+        self.waiting = None
+        me = getcurrent()
+        # reading is cheaper than setting (a cycle check); greenlet has no stubs
+        if self.parent is not me:  # type: ignore[has-type]
+            self.parent = me  # type: ignore[misc]  # greenlet's own attribute
+        if self.on_end is None:  # a main, or a callback that never blocked before: nothing to end
+            self.switch(event)
+            return
         ended = True
         try:
-            self.parent = getcurrent()
             ended = self.switch(event) is not _BLOCKED
         finally:
             if ended and self.on_end is not None:
@@ -173,17 +187,16 @@ def wait(event: simpy.Event, what: str = "a blocking call", *,
     callbacks = event.callbacks
     if callbacks is None:  # processed already: no need to block
         return _outcome(event)
-    callbacks.append(task.resume)
+    callbacks.append(task._wake)
     task.waiting = event
     task.blocked = True
     task._interruptible = interruptible
-    try:
-        task.parent.switch(_BLOCKED)
-    finally:
-        task.waiting = None
-    exc, task._interrupt = task._interrupt, None
-    if exc is not None:
+    task.parent.switch(_BLOCKED)  # back here from resume(), which cleared task.waiting
+    if task._interrupt is not None:
+        exc, task._interrupt = task._interrupt, None
         raise exc
+    if event._ok:
+        return event._value
     return _outcome(event)
 
 
@@ -219,7 +232,7 @@ def attach(task: GreenTask, node: Node) -> None:
 
     task.node = node
     _track(node).append(task)
-    make_green(node.callbacks)
+    make_green(node.callbacks, _pool_of(node.world))
 
 
 def _track(node: Node) -> list[GreenTask]:
@@ -298,11 +311,27 @@ def _new_pool(_world: object) -> list[GreenTask]:
 
 
 def _worker(job: tuple[Any, ...]) -> None:
-    """A callback task's loop: run a callback, go back to the pool, wait for the next one."""
+    """A callback task's loop: run a callback, go back to the pool, wait for the next one.
+
+    The plain path (the callback returns without raising and without a generator) is inline:
+    it is what every message delivered to a rospy subscriber runs.
+    """
     task = getcurrent()
     pool = _pool_of(task.world)
     while True:
-        finished = _run_job(task, *job)
+        queue, fn, args, owner, on_done, many = job
+        try:
+            result = fn(*args) if many else fn(args)
+        except ROSInterruptException:
+            if not queue.node.is_shutdown():
+                raise
+            finished = False  # woken by the node's shutdown: the callback just ends
+        except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
+            _callback_failed(task, queue, fn, exc, owner, on_done)
+            finished = False
+        else:
+            finished = result is None or type(result) is not GeneratorType \
+                or _callback_generator(task, queue, fn, result, owner, on_done)
         if task.blocked:
             _forget(task)
         task.node = None
@@ -311,61 +340,85 @@ def _worker(job: tuple[Any, ...]) -> None:
 
 
 def _pool_of(world: World) -> list[GreenTask]:
+    """The world's idle callback tasks (``GreenCallbackQueue.green_pool`` holds the same list)."""
     return world.extension(_POOL_KEY, _new_pool)
 
 
-def _run_job(task: GreenTask, queue: CallbackQueue, fn: Callback, args: tuple[object, ...],
-             owner: CallbackOwner | None, on_done: Callable[[], object] | None) -> bool:
-    """One callback on ``task`` (see :func:`run_callback`); True if it finished plainly."""
-    try:
-        result = fn(*args)
-    except ROSInterruptException:
-        if not queue.node.is_shutdown():
-            raise
-        return False  # woken by the node's shutdown: the callback just ends
-    except Exception as exc:  # noqa: BLE001 - reported, then the world's policy decides
-        if task.blocked:
-            failed = getattr(owner, "callback_failed", None)
-            if failed is not None:
-                failed()
-            queue.report_error(fn, exc)
-        else:
-            queue._failed(fn, exc, on_done, owner)
-        return False
-    if result is not None and type(result) is GeneratorType:
-        if task.blocked:  # blocked, then returned a generator: it runs on its own
-            queue.node.world.env.process(queue._run_generator(fn, result, owner))
-            return False
-        queue._adopt(fn, result, owner, on_done)
-        return False
-    return True
+def _callback_failed(task: GreenTask, queue: CallbackQueue, fn: Callback, exc: Exception,
+                     owner: CallbackOwner | None, on_done: Callable[[], object] | None) -> None:
+    """A callback on ``task`` raised: "bad callback" (or the world's policy), its owner freed."""
+    if task.blocked:
+        failed = getattr(owner, "callback_failed", None)
+        if failed is not None:
+            failed()
+        queue.report_error(fn, exc)
+    else:
+        queue._failed(fn, exc, on_done, owner)
 
 
-def run_callback(queue: CallbackQueue, fn: Callback, args: tuple[object, ...],
-                 owner: CallbackOwner | None, on_done: Callable[[], object] | None,
-                 done_at_once: bool) -> bool:
-    """Run one callback of a blocking node on a task (``CallbackQueue.run`` and ``run1``).
+def _callback_generator(task: GreenTask, queue: CallbackQueue, fn: Callback, gen: Any,
+                        owner: CallbackOwner | None, on_done: Callable[[], object] | None
+                        ) -> bool:
+    """A callback on ``task`` returned a generator: it runs on as yield-style code (False)."""
+    if task.blocked:  # blocked, then returned a generator: it runs on its own
+        queue.node.world.env.process(queue._run_generator(fn, gen, owner))
+    else:
+        queue._adopt(fn, gen, owner, on_done)
+    return False
 
-    Returns True when the callback finished without blocking and ``done_at_once`` is True
-    (``run1``'s contract: the caller finishes, ``on_done`` is not called); otherwise
-    ``on_done`` is called when it ends, and False is returned.  A callback that blocks holds
-    its thread of the spinner (and its owner) until it ends, as a generator callback does; a
-    generator result is adopted as in yield style.
+
+def run_callback(queue: CallbackQueue, fn: Callback, args: tuple[object, ...] = (),
+                 owner: CallbackOwner | None = None,
+                 on_done: Callable[[], object] | None = None) -> None:
+    """Run one callback of a blocking node on a task (``GreenCallbackQueue.run``).
+
+    ``on_done`` is called when it ends.  A callback that blocks holds its thread of the
+    spinner (and its owner) until it ends, as a generator callback does; a generator result
+    is adopted as in yield style.
     """
     node = queue.node
-    world = node.world
-    pool = _pool_of(world)
-    task = pool.pop() if pool else GreenTask(world, None, _worker)
+    pool = queue.green_pool
+    task = pool.pop() if pool else GreenTask(node.world, None, _worker)
     task.node = node
     task.blocked = False
     task.on_end = None
-    task.parent = getcurrent()
-    finished = task.switch((queue, fn, args, owner, on_done))
+    me = getcurrent()
+    if task.parent is not me:
+        task.parent = me
+    finished = task.switch((queue, fn, args, owner, on_done, True))
     if finished is _BLOCKED:
-        _track(node).append(task)  # a blocked callback is woken when its node shuts down
-        queue.hold(owner)
-        task.on_end = lambda: queue._finished(owner, on_done)
-        return False
-    if finished and not done_at_once and on_done is not None:
+        _block(queue, task, owner, on_done)
+    elif finished and on_done is not None:
         on_done()
-    return bool(finished) and done_at_once
+
+
+def run_callback1(queue: CallbackQueue, fn: Callback, arg: object,
+                  owner: CallbackOwner | None = None,
+                  on_done: Callable[[], object] | None = None) -> bool:
+    """:func:`run_callback` for one argument (``GreenCallbackQueue.run1``: a message, a timer).
+
+    Returns True when the callback finished without blocking (``run1``'s contract: the
+    caller finishes, ``on_done`` is not called); otherwise ``on_done`` is called when it
+    ends, and False is returned.  This is the path of every message a rospy subscriber gets.
+    """
+    pool = queue.green_pool
+    task = pool.pop() if pool else GreenTask(queue.node.world, None, _worker)
+    task.node = queue.node
+    task.blocked = False
+    task.on_end = None
+    me = getcurrent()
+    if task.parent is not me:
+        task.parent = me
+    finished = task.switch((queue, fn, arg, owner, on_done, False))
+    if finished is _BLOCKED:
+        _block(queue, task, owner, on_done)
+        return False
+    return finished  # type: ignore[no-any-return]  # the worker's bool
+
+
+def _block(queue: CallbackQueue, task: GreenTask, owner: CallbackOwner | None,
+           on_done: Callable[[], object] | None) -> None:
+    """The callback on ``task`` blocked: it holds its spinner thread until it ends."""
+    _track(queue.node).append(task)  # a blocked callback is woken when its node shuts down
+    queue.hold(owner)
+    task.on_end = lambda: queue._finished(owner, on_done)
