@@ -331,6 +331,7 @@ class Simulator:
         self._scan_pub = node.advertise("scan", self._LaserScan, queue_size=10) if laser else None
         self._gt_pub = (node.advertise("ground_truth/odom", odometry, queue_size=10)
                         if ground_truth else None)
+        self._clock_m = self._Clock()
         self._odom_m = self._new_odom("odom")
         self._gt_m = self._new_odom("world")
         self._imu_m = self._new_imu()
@@ -411,10 +412,11 @@ class Simulator:
             else:
                 self._w = 0.0
             # move as far along the step as is free (bisection to 2**-20 of a step), so the
-            # robot rests against the obstacle and pressing on is one contact, not many
+            # robot rests against the obstacle and pressing on is one contact, not many; while
+            # it presses on the same obstacle it already rests there
             lo, hi = 0.0, 1.0
             dx, dy = nx - x, ny - y
-            for _ in range(20):
+            for _ in range(0 if self._contact == hit.obstacle.name else 20):
                 mid = 0.5 * (lo + hi)
                 if self._hit(x + mid * dx, y + mid * dy, self._yaw) is None:
                     lo = mid
@@ -487,7 +489,9 @@ class Simulator:
     def _publish(self, step: int) -> None:
         stamp = Time._from_ns(step * DT_NS)
         if self._clock_pub is not None:
-            self._clock_pub.publish(self._Clock(clock=stamp))
+            clock = self._clock_m
+            clock.clock = stamp
+            self._clock_pub.publish(clock)
         if step % 2 == 0:
             self._publish_odom(stamp)
         if step % self._imu_every == 0:
