@@ -100,6 +100,7 @@ from ddes.errors import DdesTypeError, DdesValueError
 from ddes.graph.world import World
 from ddes.msg import dict_to_message, get_message_class, message_to_dict
 from ddes.msg.message import Message
+from ddes.testing._draws import same_draws_everywhere
 from ddes.testing._replay import Source, call_text, factory_name, mark_violation
 from ddes.testing.strategies import messages
 from ddes.time.units import duration_to_ns, ns_to_sec, time_to_ns
@@ -753,8 +754,9 @@ def run_protocol_machine(make_server: ServerFactory, *,
     machine = ActionProtocolMachine.machine_for(make_server, action=action, ns=ns, goals=goals,
                                                 settle=settle, preempt_timeout=preempt_timeout)
     try:
-        run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
-                                                              **settings_kw))
+        with same_draws_everywhere():
+            run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
+                                                                  **settings_kw))
     except ProtocolViolation as exc:
         raise _shrink_further(machine, exc) from None
 

@@ -64,6 +64,7 @@ from hypothesis import strategies as st
 from simpy.core import StopSimulation
 
 from ddes.errors import DdesTypeError, DdesValueError
+from ddes.testing._draws import same_draws_everywhere
 from ddes.testing._replay import Source, call_text, factory_name
 from ddes.time.units import duration_to_ns
 from ddes.world import World
@@ -302,7 +303,8 @@ def explore(scenario: Scenario, check: Check, *, runs: int = 100, until: float =
         except Exception as exc:  # noqa: BLE001 - any failure of the run is the finding
             raise _failure(scenario, check, perturbation, until, exc) from exc
 
-    run()
+    with same_draws_everywhere():
+        run()
 
 
 def _failure(scenario: Scenario, check: Check, p: Perturbation, until: float,

@@ -59,6 +59,7 @@ from hypothesis.stateful import (
 from ddes.errors import DdesTypeError, DdesValueError, ROSTimeMovedBackwardsException
 from ddes.graph.timer import Timer, TimerEvent, rospy_timer_sleep_ns
 from ddes.msg import get_message_class
+from ddes.testing._draws import same_draws_everywhere
 from ddes.testing._replay import Source, call_text, factory_name, mark_violation
 from ddes.time.rate import Rate
 from ddes.time.rostime import Duration, Time
@@ -432,8 +433,9 @@ def run_time_machine(make_node: NodeFactory | None = None, check: Check | None =
     """Run the machine now; raises :class:`TimeViolation` (shrunk) on a failure."""
     machine = TimeProtocolMachine.machine_for(make_node, check)
     try:
-        run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
-                                                              **settings_kw))
+        with same_draws_everywhere():
+            run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
+                                                                  **settings_kw))
     except TimeViolation as exc:
         raise _shrink_further(machine, exc) from None
 

@@ -96,6 +96,7 @@ from ddes.services.convert import (
     convert_return_to_response,
 )
 from ddes.services.transport import serialize
+from ddes.testing._draws import same_draws_everywhere
 from ddes.testing._replay import Source, call_text, factory_name, mark_violation
 from ddes.testing.strategies import messages
 from ddes.time.units import duration_to_ns, ns_to_sec
@@ -812,8 +813,9 @@ def run_service_machine(service_class: type[ServiceDefinition] | str,
     settings_kw = {k: kw.pop(k) for k in list(kw) if k not in _MACHINE_KW}
     machine = ServiceProtocolMachine.machine_for(service_class, handler, **kw)
     try:
-        run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
-                                                              **settings_kw))
+        with same_draws_everywhere():
+            run_state_machine_as_test(machine, settings=_settings(max_examples, stateful_step_count,
+                                                                  **settings_kw))
     except ServiceViolation as exc:
         raise _shrink_further(machine, exc) from None
 

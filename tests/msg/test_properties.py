@@ -27,7 +27,7 @@ MSG_TYPES = list(_REG.iter_types("msg"))
 SRV_PARTS = [(t, part) for t in _REG.iter_types("srv") for part in ("request", "response")]
 
 _SETTINGS = settings(max_examples=12, deadline=None,
-                     suppress_health_check=[HealthCheck.too_slow])
+                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 
 def _check_round_trips(msg: Message) -> None:

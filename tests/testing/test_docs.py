@@ -8,6 +8,7 @@ import io
 import re
 from pathlib import Path
 
+import hypothesis
 import matplotlib
 import pytest
 
@@ -23,6 +24,11 @@ _BLOCK = re.compile(r"<!-- testing (example|output): ([\w-]+) -->\n```(?:python|
 def blocks() -> dict[tuple[str, str], str]:
     return {(kind, name): body for kind, name, body in _BLOCK.findall(DOC.read_text("utf-8"))}
 
+
+#: The hypothesis version whose search and shrinker gave the page's outputs.  Another version
+#: (``.ci/min-versions`` runs the oldest allowed) may shrink the same bug to another minimal
+#: schedule: there the example must still find its bug and print a problem and a replay call.
+SHRUNK_WITH = "6.170.15"
 
 EXAMPLES = sorted({name.split("-")[0] for kind, name in blocks() if kind == "example"})
 
@@ -44,6 +50,12 @@ def test_the_example_finds_and_shrinks_its_planted_bug(name: str, tmp_path: Path
         out = io.StringIO()
         with contextlib.redirect_stdout(out):
             run_snippet(found[("example", part)], DOC, part, namespace)
-        assert out.getvalue() == found[("output", part)], part
+        expected = found[("output", part)]
+        if hypothesis.__version__ == SHRUNK_WITH:
+            assert out.getvalue() == expected, part
+        else:
+            got = out.getvalue().splitlines()
+            assert len(got) == len(expected.splitlines()), (part, got)
+            assert got[-1].split("(")[0] == expected.splitlines()[-1].split("(")[0], (part, got)
     if name == "actions":
         assert (tmp_path / "deaf_server.png").stat().st_size > 0

@@ -93,7 +93,7 @@ def test_handler_errors_reach_the_caller_as_rospy_says() -> None:
 def shared_state_violation() -> ServiceViolation:
     with pytest.raises(ServiceViolation) as info:
         run_service_machine(AddTwoInts, make_server=make_shared_state_adder, contract=contract,
-                            requests=SMALL, max_examples=60, stateful_step_count=10,
+                            requests=SMALL, max_examples=400, stateful_step_count=10,
                             derandomize=True, database=None)
     return info.value
 
