@@ -139,6 +139,26 @@ class LaserGeometry:
                 if not ranges:
                     continue
                 beams = ranges[0] if len(ranges) == 1 else [i for r in ranges for i in r]
+            if len(p.circles) == 1 and not p.segments:  # one circle: ray_distance, inlined
+                (ccx, ccy, r2), = p.circles
+                fx = ccx - ox
+                fy = ccy - oy
+                k = fx * fx + fy * fy - r2
+                for i in beams:
+                    sa, ca = dirs[i]
+                    dx = cy * ca - sy * sa
+                    dy = sy * ca + cy * sa
+                    b = dx * fx + dy * fy
+                    disc = b * b - k
+                    if disc < 0.0:
+                        continue
+                    sq = math.sqrt(disc)
+                    t = b - sq
+                    if t < 0.0:
+                        t = b + sq
+                    if 0.0 <= t < out[i]:
+                        out[i] = t
+                continue
             for i in beams:
                 sa, ca = dirs[i]
                 dx = cy * ca - sy * sa
