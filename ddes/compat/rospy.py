@@ -246,7 +246,17 @@ class Rate:
 
     def sleep(self) -> None:
         """Block until the end of the current cycle (rospy's algorithm, ddes.Rate)."""
-        wait(self._rate.sleep(), "rate.sleep()")
+        rate = self._rate
+        clock = rate._clock
+        if clock.is_sim:  # /clock time: ddes.Rate's own wait for the clock to get there
+            wait(rate.sleep(), "rate.sleep()")
+            return
+        # ddes.Rate.sleep's steps on the kernel's clock, without its forgotten-yield label
+        # (a blocking call cannot forget to wait): this is every rospy loop's hot path.
+        curr = clock.now_ns()
+        remaining = rate._remaining(curr)
+        rate._advance(curr)
+        wait(clock.env.timeout(remaining if remaining > 0 else 0), "rate.sleep()")
 
     def remaining(self) -> Duration:
         """Time left in the current cycle."""
