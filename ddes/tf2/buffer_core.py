@@ -7,7 +7,9 @@ table (frame numbers in order of first sight, child before parent), one cache pe
 to the last bit), and for ``lookup_transform_full_core`` the composition through
 ``tf2::Transform`` (a rotation matrix and ``Matrix3x3::getRotation``, which fixes the
 quaternion's sign as tf2's does).  Times are integer nanoseconds inside; arguments are ddes
-``Time`` values (or seconds).  Warnings and errors go to the ``ddes.tf2`` logger with tf2's texts.
+``Time`` values (or seconds).  Warnings and errors (tf2's texts) go through
+:meth:`BufferCore._log`: the ``ddes.tf2`` logger, or, for a ``ddes.tf2_ros.Buffer`` on a node,
+the node's log (/rosout and the console).
 
 Every insertion goes through :meth:`BufferCore.set_transform` or
 :meth:`BufferCore.set_transform_static`; :class:`ddes.tf2_ros.Buffer` overrides them to wake
@@ -185,27 +187,32 @@ class BufferCore:
         qx, qy, qz, qw = float(rot.x), float(rot.y), float(rot.z), float(rot.w)
         error = False
         if child == frame_id:
-            log.error('TF_SELF_TRANSFORM: Ignoring transform from authority "%s" with frame_id '
-                      'and child_frame_id  "%s" because they are the same', authority, child)
+            self._log(logging.ERROR,
+                      f'TF_SELF_TRANSFORM: Ignoring transform from authority "{authority}" with '
+                      f'frame_id and child_frame_id  "{child}" because they are the same')
             error = True
         if child == "":
-            log.error('TF_NO_CHILD_FRAME_ID: Ignoring transform from authority "%s" because '
-                      'child_frame_id not set ', authority)
+            self._log(logging.ERROR,
+                      f'TF_NO_CHILD_FRAME_ID: Ignoring transform from authority "{authority}" '
+                      'because child_frame_id not set ')
             error = True
         if frame_id == "":
-            log.error('TF_NO_FRAME_ID: Ignoring transform with child_frame_id "%s"  from '
-                      'authority "%s" because frame_id not set', child, authority)
+            self._log(logging.ERROR,
+                      f'TF_NO_FRAME_ID: Ignoring transform with child_frame_id "{child}"  from '
+                      f'authority "{authority}" because frame_id not set')
             error = True
         if any(math.isnan(v) for v in (tx, ty, tz, qx, qy, qz, qw)):
-            log.error('TF_NAN_INPUT: Ignoring transform for child_frame_id "%s" from authority '
-                      '"%s" because of a nan value in the transform (%f %f %f) (%f %f %f %f)',
-                      child, authority, tx, ty, tz, qx, qy, qz, qw)
+            self._log(logging.ERROR,
+                      f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{child}" from '
+                      f'authority "{authority}" because of a nan value in the transform '
+                      f"({tx:f} {ty:f} {tz:f}) ({qx:f} {qy:f} {qz:f} {qw:f})")
             error = True
         if not abs((qw * qw + qx * qx + qy * qy + qz * qz) - 1.0) < \
                 QUATERNION_NORMALIZATION_TOLERANCE:
-            log.error('TF_DENORMALIZED_QUATERNION: Ignoring transform for child_frame_id "%s" '
-                      'from authority "%s" because of an invalid quaternion in the transform '
-                      '(%f %f %f %f)', child, authority, qx, qy, qz, qw)
+            self._log(logging.ERROR,
+                      f'TF_DENORMALIZED_QUATERNION: Ignoring transform for child_frame_id '
+                      f'"{child}" from authority "{authority}" because of an invalid quaternion '
+                      f"in the transform ({qx:f} {qy:f} {qz:f} {qw:f})")
             error = True
         if error:
             return False
@@ -220,9 +227,15 @@ class BufferCore:
         if problem is None:
             self._authority[child_id] = authority
             return True
-        log.warning("%s for frame %s at time %f according to authority %s",
-                    problem, child, to_sec(stamp), authority)
+        self._log(logging.WARNING, f"{problem} for frame {child} at time {to_sec(stamp):f} "
+                  f"according to authority {authority}")
         return False
+
+    def _log(self, level: int, text: str) -> None:
+        """Where tf2's ``CONSOLE_BRIDGE_logWarn``/``logError`` lines go: ``level`` is
+        ``logging.WARNING`` or ``logging.ERROR``, ``text`` tf2's line.  This logs to the
+        ``ddes.tf2`` logger; :class:`ddes.tf2_ros.Buffer` overrides it to log on its node."""
+        log.log(level, "%s", text)
 
     def _lookup_or_insert(self, name: str) -> int:
         fid = self._ids.get(name)
@@ -255,11 +268,12 @@ class BufferCore:
 
     def _warn_frame_id(self, what: str, frame: str) -> bool:
         if not frame:
-            log.warning("Invalid argument passed to %s in tf2 frame_ids cannot be empty", what)
+            self._log(logging.WARNING,
+                      f"Invalid argument passed to {what} in tf2 frame_ids cannot be empty")
             return True
         if frame.startswith("/"):
-            log.warning('Invalid argument "%s" passed to %s in tf2 frame_ids cannot start with '
-                        "a '/' like: ", frame, what)
+            self._log(logging.WARNING, f'Invalid argument "{frame}" passed to {what} in tf2 '
+                      "frame_ids cannot start with a '/' like: ")
             return True
         return False
 

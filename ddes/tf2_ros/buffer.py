@@ -20,10 +20,12 @@ The node a wait runs on is the Buffer's (``Buffer(node=...)``, or the node of th
 
 from __future__ import annotations
 
+import logging
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesValueError
 from ddes.graph.blocking import current_node, wait
+from ddes.graph.rosout import ERROR, WARN
 from ddes.tf2 import BufferCore, TimeoutException
 from ddes.tf2_ros.geometry import TypeException, transform_function
 from ddes.time.rostime import Duration
@@ -110,6 +112,17 @@ class Buffer(BufferCore):
                 "Buffer(node=node) or give it a TransformListener(node, buffer), or call it from "
                 "a rospy script's code; with timeout=None (or 0) it answers at once")
         return node
+
+    def _log(self, level: int, text: str) -> None:
+        """tf2's warnings and errors on the Buffer's node (/rosout and its console line, at the
+        node's simulated time), as a roscpp node with rosconsole_bridge shows them; without a
+        node, the ``ddes.tf2`` logger (see docs/tf.md, "tf2's warnings")."""
+        node = self._node
+        if node is None:
+            BufferCore._log(self, level, text)
+            return
+        # depth 2: the BufferCore method that logged is the line's file/function/line
+        node.log.log(ERROR if level >= logging.ERROR else WARN, text, (), depth=2)
 
     # -- insertion wakes the waiters ----------------------------------------------------------
     def set_transform(self, transform: Any, authority: str) -> Any:
