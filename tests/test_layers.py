@@ -32,6 +32,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("services",),
     ("actionlib", "dynamic_reconfigure", "rosbag", "tf2"),
     ("tf2_ros",),
+    ("rqt",),
     ("sim",),
     ("compat",),
     ("nodes", "packages"),
