@@ -12,7 +12,8 @@ clamped to |v| <= 1.1 m/s, |w| <= 1.1 rad/s; v and w slew toward it within |a| <
 |alpha| <= 3 rad/s^2; midpoint integration; the footprint (0.605 x 0.410 m) is tested against
 every obstacle at the new pose.  On contact the robot goes as far along the step as is free
 (bisection), v = 0 (the turn is kept when turning alone is free), a :class:`Collision` is
-recorded (once per contact: pressing on does not record again) and the IMU shows a crash pulse.
+recorded (once per contact: pressing on or sliding along records nothing more until the robot is
+5 cm clear of the obstacle) and the IMU shows a crash pulse.
 
 Noise (off with ``noise=False``): each sensor draws from its own stream of the world's seed,
 ``world.rng_for("sim/<node>/<sensor>")`` (``odom``, ``imu``, ``scan``), so adding a sensor
@@ -187,6 +188,8 @@ class Simulator:
         self.limits = limits
         self.footprint = footprint
         self._fp = footprint.parts()
+        hx, hy, _ = self._fp
+        self._fp_near = Footprint(2.0 * hx + 0.1, 2.0 * hy + 0.1).parts()  # 5 cm all round
         self.real_time_factor = float(real_time_factor)
         self._period_ns = max(1, round(DT_NS / self.real_time_factor))
         self._imu_every = round(100 / imu_rate)
@@ -224,7 +227,8 @@ class Simulator:
         self._ox, self._oy, self._oyaw = 0.0, 0.0, 0.0  # odometry frame starts at the robot
         self._vm = 0.0
         self._wm = 0.0
-        self._contact: str | None = None
+        self._contact: Prepared | None = None  # the obstacle touched, until 5 cm apart again
+        self._pressing = False  # the last step was stopped by an obstacle
         self._pulse: tuple[int, float, float, float, float] | None = None
 
     def _check_free(self, pose: Pose2D, what: str) -> None:
@@ -297,6 +301,7 @@ class Simulator:
         self._x, self._y, self._yaw = pose
         self._v = self._w = 0.0
         self._contact = None
+        self._pressing = False
         self.world.record("sim.place", self.node.name, x=pose.x.hex(), y=pose.y.hex(),
                           yaw=pose.yaw.hex())
 
@@ -404,7 +409,11 @@ class Simulator:
         hit = self._hit(nx, ny, nyaw)
         if hit is None:
             self._x, self._y, self._yaw, self._v, self._w = nx, ny, nyaw, v, w
-            self._contact = None
+            self._pressing = False
+            if self._contact is not None:
+                s, c = sincos(nyaw)
+                if not collides(self._fp_near, nx, ny, s, c, self._contact):
+                    self._contact = None
         else:
             speed = abs(v)
             if self._hit(x, y, nyaw) is None:
@@ -412,11 +421,10 @@ class Simulator:
             else:
                 self._w = 0.0
             # move as far along the step as is free (bisection to 2**-20 of a step), so the
-            # robot rests against the obstacle and pressing on is one contact, not many; while
-            # it presses on the same obstacle it already rests there
+            # robot rests against the obstacle; while it presses on, it already rests there
             lo, hi = 0.0, 1.0
             dx, dy = nx - x, ny - y
-            for _ in range(0 if self._contact == hit.obstacle.name else 20):
+            for _ in range(0 if self._pressing else 20):
                 mid = 0.5 * (lo + hi)
                 if self._hit(x + mid * dx, y + mid * dy, self._yaw) is None:
                     lo = mid
@@ -424,9 +432,12 @@ class Simulator:
                     hi = mid
             self._x, self._y = x + lo * dx, y + lo * dy
             self._v = 0.0
-            if self._contact != hit.obstacle.name:
+            self._pressing = True
+            # one contact until the robot is 5 cm clear of the obstacle again: sliding along
+            # it or pressing on records nothing more
+            if self._contact is None or self._contact.obstacle.name != hit.obstacle.name:
                 self._collide(hit, speed)
-            self._contact = hit.obstacle.name
+            self._contact = hit
         self._odometry()
 
     def _hit(self, x: float, y: float, yaw: float) -> Prepared | None:

@@ -78,7 +78,7 @@ def test_turning_in_place_against_a_wall_is_kept_when_free() -> None:
     pub = driver.advertise("/cmd_vel", TWIST, queue_size=1)
     driver.create_timer(0.05, lambda e: pub.publish(TWIST(linear=VEC(x=0.5), angular=VEC(z=0.5))))
     world.run(until=3.0)
-    assert sim.collisions and sim.collisions[0].obstacle == "wall"
+    assert [c.obstacle for c in sim.collisions] == ["wall"]  # sliding along: one contact
     assert sim.truth.yaw != 0.0  # it kept turning while pressed against the wall
 
 
