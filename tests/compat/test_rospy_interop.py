@@ -1,7 +1,8 @@
 """The bundled rospy scripts under real rospy (Debian ROS, system Python) and under ddes agree.
 
-The same files, ``ddes/packages/rospy_tutorials/scripts/*.py``, run as real ROS processes on a
-real rosmaster and as ddes nodes.  add_two_ints is deterministic in ROS too, so its printed lines
+The same files, ``ddes/packages/rospy_tutorials/scripts/*.py`` (and actionlib_tutorials'), run as
+real ROS processes on a real rosmaster and as ddes nodes, both directly and as the pairs of
+``examples/rospy_scripts.py``.  add_two_ints is deterministic in ROS too, so its printed lines
 must be identical; talker/listener lines carry wall-clock times and pids in ROS, so they are
 compared with every number replaced by ``N``.
 """
@@ -21,6 +22,19 @@ from ddes.compat.scripts import run_script
 
 SCRIPTS = Path(ddes.__file__).parent / "packages" / "rospy_tutorials" / "scripts"
 PACKAGE = SCRIPTS.parent
+
+def _example_pair(pair: str) -> dict[str, list[str]]:
+    """What examples/rospy_scripts.py's ``pair`` prints and logs under ddes, by script file."""
+    path = Path(__file__).resolve().parents[2] / "examples" / "rospy_scripts.py"
+    spec = importlib.util.spec_from_file_location("_ddes_rospy_scripts_example", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    out: dict[str, list[str]] = {}
+    module.run_pair(pair, lambda script, kind, text: out.setdefault(f"{script} {kind}", [])
+                    .append(text))
+    return out
+
 
 def _master_script() -> str:
     """tests/graph/rosmaster_script.py's MASTER (a file of another test folder)."""
@@ -94,6 +108,9 @@ def test_add_two_ints_prints_the_same_lines(ros_python: Callable[..., Any]) -> N
     assert theirs["client"] == printed["client"] == ["Requesting 3+4", "3 + 4 = 7"]
     assert theirs["server"] == printed["server"] == ["Ready to add two ints.",
                                                      "Returning [3 + 4 = 7]"]
+    example = _example_pair("add_two_ints")  # examples/rospy_scripts.py add_two_ints
+    assert example == {"add_two_ints_server.py print": theirs["server"],
+                       "add_two_ints_client.py print": theirs["client"]}
 
 
 def test_talker_and_listener_print_lines_of_the_same_shape(ros_python: Callable[..., Any]
@@ -114,6 +131,11 @@ def test_talker_and_listener_print_lines_of_the_same_shape(ros_python: Callable[
                         (lines["talker"], lines["listener"])):
         texts = {line.split("]: ", 1)[1] for line in said}
         assert all(line.split("I heard ", 1)[1] in texts for line in heard)
+    example = _example_pair("chatter")  # examples/rospy_scripts.py chatter
+    assert set(example) == {"talker.py log", "listener.py log"}
+    for who in ("talker", "listener"):  # the example names its nodes (__name:=): no suffix
+        assert {_shape(line).replace("/listener_N", "/listener") for line in theirs[who]} == \
+            {_shape(line) for line in example[f"{who}.py log"]}
 
 
 FIBONACCI = r'''
@@ -165,3 +187,7 @@ def test_the_fibonacci_action_scripts_agree(ros_python: Callable[..., Any],
     assert printed[0].startswith("Result: 0, 1, 1, 2, 3, 5") and printed[0].endswith("6765")
     assert [line.split("]: ", 1)[1] for line in theirs["server"]] == \
         [line.split("]: ", 1)[1] for line in lines]
+    example = _example_pair("fibonacci")  # examples/rospy_scripts.py fibonacci
+    assert example["fibonacci_client.py print"] == theirs["client"]
+    assert [line.split("]: ", 1)[1] for line in example["fibonacci_server.py log"]] == \
+        [line.split("]: ", 1)[1] for line in theirs["server"]]
