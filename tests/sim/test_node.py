@@ -82,3 +82,17 @@ def test_noise_false_odometry_is_the_truth_and_frames_are_smb() -> None:
     assert frames[("base_link", "base_laser")].x == 0.20
     assert frames[("base_link", "imu_link")].y == -0.02397
     assert len(tfs) == 199 and tfs[-1].transforms[0].child_frame_id == "base_link"
+
+
+def test_real_time_factor_and_starting_paused() -> None:
+    world = ddes.World(seed=1)
+    slow = Simulator(world, name="slow", real_time_factor=0.5, publish_clock=False)
+    paused = Simulator(world, name="held", paused=True, publish_clock=False)
+    world.run(until=2.0)
+    assert slow.sim_time.to_nsec() == 990_000_000  # a 10 ms step every 20 ms of kernel time
+    assert paused.sim_time.to_nsec() == 0 and paused.paused
+    paused.resume()
+    world.run(until=2.5)
+    assert paused.sim_time.to_nsec() == 500_000_000
+    kinds = [e.details["paused"] for e in world.trace.select(kind="sim.pause", source="/held")]
+    assert kinds == [False]
