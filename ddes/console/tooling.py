@@ -58,6 +58,7 @@ TOOL_MODULES: tuple[str, ...] = (
     "ddes.console.rosrun",
     "ddes.console.rosservice",
     "ddes.console.rostopic",
+    "ddes.console.viz",
 )
 
 Tool = Callable[["ToolContext", list[str]], int]
