@@ -33,11 +33,13 @@ __all__ = [
     "DeserializationError",
     "DigestError",
     "DynamicReconfigureCallbackException",
+    "GradingError",
     "InvalidMsgSpec",
     "MissingNodeError",
     "MsgNotFound",
     "NoGlobalFunctionError",
     "NodeShutdownError",
+    "ProtocolError",
     "ROSActionException",
     "ROSBagEncryptNotSupportedException",
     "ROSBagException",
@@ -60,6 +62,7 @@ __all__ = [
     "RunawayError",
     "ServiceException",
     "ServiceTimeout",
+    "SubmissionError",
     "UnsafeExpressionError",
     "WorldError",
 ]
@@ -291,3 +294,15 @@ class ROSConsoleError(DdesError):
 
 class DynamicReconfigureCallbackException(DdesError):
     """A dynamic_reconfigure callback returned None."""
+
+
+class GradingError(DdesError):
+    """The autograder cannot grade: an unknown exercise, a bad option (ddes.grading)."""
+
+
+class SubmissionError(GradingError):
+    """A submission cannot be read: a zip entry that escapes, a bomb, a notebook that is not JSON."""
+
+
+class ProtocolError(GradingError):
+    """A frame from the sandboxed child breaks the grading protocol (forged, oversized, cut)."""

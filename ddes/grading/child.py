@@ -1,0 +1,275 @@
+"""The sandboxed child: the student's nodes in a ddes world of their own, stepped by the grader.
+
+Started by :class:`ddes.grading.sandbox.Sandbox` as ``python -I -B -m ddes.grading.child SEED
+N [SCRIPT NARGS ARG...]*`` with its limits already set (rlimits, its own session, a network
+namespace, an unprivileged user where the grader is root).  It then
+
+1. keeps the protocol pipes on private descriptors and points fd 0 at ``/dev/null`` and fd 1 at
+   standard error (a ``print`` or ``os.write(1, …)`` of the student lands in the captured
+   stderr, never in the protocol stream);
+2. imports ddes and builds its world;
+3. confines itself with Landlock where the kernel has it (files: read only under the Python
+   installation, ddes and the submission copy; write only under the submission copy; TCP bind
+   and connect refused; no signals to processes outside the sandbox) and installs an audit hook
+   that refuses sockets, subprocesses, ``exec``, ``fork`` and ``ctypes``;
+4. answers STEP frames (see :mod:`ddes.grading.protocol`) until END or end of input.
+
+Nothing here is trusted by the grader: it decodes and checks every frame this process writes.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Any
+
+__all__ = ["main"]
+
+BRIDGE = "/ddes_grading_bridge"
+
+
+def _read_exact(fd: int, n: int) -> bytes:
+    chunks = []
+    while n:
+        chunk = os.read(fd, n)
+        if not chunk:
+            raise EOFError
+        chunks.append(chunk)
+        n -= len(chunk)
+    return b"".join(chunks)
+
+
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        n = os.write(fd, view)
+        view = view[n:]
+
+
+# -- confinement --------------------------------------------------------------------------------
+
+_FS_EXECUTE, _FS_WRITE_FILE, _FS_READ_FILE, _FS_READ_DIR = 1, 2, 4, 8
+_FS_WRITES = sum(1 << i for i in range(4, 13))  # remove dir/file, make char/dir/reg/sock/fifo/block/sym
+_FS_REFER, _FS_TRUNCATE, _FS_IOCTL_DEV = 1 << 13, 1 << 14, 1 << 15
+
+
+def landlock(read_paths: list[str], write_paths: list[str]) -> int:
+    """Confine this process with Landlock; returns the ABI used (0: the kernel has none)."""
+    import ctypes
+    import struct
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    syscall = libc.syscall
+    syscall.restype = ctypes.c_long
+    abi = syscall(444, None, 0, 1)  # landlock_create_ruleset(NULL, 0, LANDLOCK_CREATE_RULESET_VERSION)
+    if abi <= 0:
+        return 0
+    fs = _FS_EXECUTE | _FS_WRITE_FILE | _FS_READ_FILE | _FS_READ_DIR | _FS_WRITES
+    if abi >= 2:
+        fs |= _FS_REFER
+    if abi >= 3:
+        fs |= _FS_TRUNCATE
+    if abi >= 5:
+        fs |= _FS_IOCTL_DEV
+    net = 3 if abi >= 4 else 0  # bind and connect TCP, with no rule: refused
+    scoped = 3 if abi >= 6 else 0  # abstract unix sockets and signals stay inside
+    attr = struct.pack("<Q", fs)
+    if abi >= 4:
+        attr += struct.pack("<Q", net)
+    if abi >= 6:
+        attr += struct.pack("<Q", scoped)
+    buf = ctypes.create_string_buffer(attr, len(attr))
+    ruleset = syscall(444, buf, len(attr), 0)
+    if ruleset < 0:
+        raise OSError(ctypes.get_errno(), "landlock_create_ruleset")
+    read = _FS_EXECUTE | _FS_READ_FILE | _FS_READ_DIR
+    rules = [(p, read) for p in read_paths] + [(p, fs) for p in write_paths]
+    for path, allowed in rules:
+        try:
+            fd = os.open(path, os.O_PATH | os.O_CLOEXEC)
+        except OSError:
+            continue
+        if not os.path.isdir(path):
+            allowed &= _FS_EXECUTE | _FS_WRITE_FILE | _FS_READ_FILE | _FS_TRUNCATE | _FS_IOCTL_DEV
+        rule = ctypes.create_string_buffer(struct.pack("<Qi", allowed & fs, fd), 12)
+        if syscall(445, ruleset, 1, rule, 0) < 0:  # landlock_add_rule(PATH_BENEATH)
+            os.close(fd)
+            raise OSError(ctypes.get_errno(), f"landlock_add_rule {path}")
+        os.close(fd)
+    if libc.prctl(38, 1, 0, 0, 0) != 0:  # PR_SET_NO_NEW_PRIVS
+        raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS)")
+    if syscall(446, ruleset, 0) < 0:  # landlock_restrict_self
+        raise OSError(ctypes.get_errno(), "landlock_restrict_self")
+    os.close(ruleset)
+    return int(abi)
+
+
+_REFUSED_EVENTS = frozenset({
+    "socket.__new__", "socket.connect", "socket.bind", "socket.sendto", "socket.getaddrinfo",
+    "subprocess.Popen", "os.system", "os.exec", "os.posix_spawn", "os.spawn", "os.fork",
+    "os.forkpty", "pty.spawn", "ctypes.dlopen", "ctypes.dlsym", "ctypes.cdata",
+    "os.kill", "os.killpg", "signal.pthread_kill", "sys.addaudithook",
+})
+
+
+def _audit(event: str, args: tuple[Any, ...]) -> None:
+    if event in _REFUSED_EVENTS:
+        raise PermissionError(f"the grading sandbox refuses {event}")
+    if event == "import" and args and str(args[0]).split(".")[0] in ("ctypes", "_ctypes"):
+        raise PermissionError("the grading sandbox refuses ctypes")
+
+
+# -- the bridge ---------------------------------------------------------------------------------
+
+class _Bridge:
+    """The child's end: bridge endpoints on every topic the student's nodes use."""
+
+    def __init__(self, world: Any, out_fd: int) -> None:
+        self.world = world
+        self.out = out_fd
+        self.node = world.create_node(BRIDGE, disable_rosout=True)
+        self.frames: list[bytes] = []
+        self.pubs: dict[str, Any] = {}   # topic -> bridge publisher (grader -> student)
+        self.subs: dict[str, Any] = {}   # topic -> bridge subscriber (student -> grader)
+        self.seen_pub: set[tuple[str, str]] = set()
+        self.seen_sub: set[tuple[str, str]] = set()
+        self.live: dict[str, None] = {}
+
+    def capture(self, topic: str) -> Any:
+        from ddes.graph.topics import AnyMsg, Subscriber
+
+        def cb(msg: Any) -> None:
+            caller = msg._connection_header.get("callerid", "")
+            if caller != BRIDGE:
+                from ddes.grading import protocol
+
+                self.frames.append(protocol.encode_msg(caller, topic, self.world.now, msg._buff))
+
+        return Subscriber(self.node, topic, AnyMsg, cb, internal=True)
+
+    def inject(self, messages: tuple[tuple[str, str, str, bytes], ...]) -> None:
+        for topic, type_, md5, data in messages:
+            pub = self.pubs.get(topic)
+            if pub is None or pub.type != type_ or pub.md5sum != md5:
+                continue
+            cls = pub.data_class
+            pub.publish(cls.__new__(cls)._deserialize_from(data))
+
+    def discover(self) -> None:
+        from ddes.grading import protocol
+        from ddes.graph.topics import Publisher
+
+        for name, entry in list(self.world.master.topics.items()):
+            for pub in entry.publishers:
+                who = pub.node.name
+                if who == BRIDGE or (who, name) in self.seen_pub:
+                    continue
+                self.seen_pub.add((who, name))
+                self.frames.append(protocol.encode_adv(who, name, pub.type, pub.md5sum, pub.latch))
+                if name not in self.subs:
+                    self.subs[name] = self.capture(name)
+            for sub in entry.subscribers:
+                who = sub.node.name
+                if who == BRIDGE or (who, name) in self.seen_sub or sub.type == "*":
+                    continue
+                self.seen_sub.add((who, name))
+                qs = -1 if sub.queue_size is None else int(sub.queue_size)
+                self.frames.append(protocol.encode_sub(who, name, sub.type, sub.md5sum, qs))
+                if name not in self.pubs:
+                    self.pubs[name] = Publisher(self.node, name, sub.data_class, queue_size=None)
+        nodes = self.world.nodes
+        for name, node in nodes.items():
+            if name != BRIDGE and not node.is_shutdown():
+                self.live.setdefault(name, None)
+        for name in list(self.live):
+            node = nodes.get(name)
+            if node is None or node.is_shutdown():
+                del self.live[name]
+                self.frames.append(protocol.encode_gone(name))
+
+    def flush(self, next_ns: int) -> None:
+        from ddes.grading import protocol
+
+        self.frames.append(protocol.encode_done(next_ns))
+        _write_all(self.out, b"".join(self.frames))
+        self.frames = []
+
+
+def _parse_scripts(argv: list[str]) -> tuple[int, list[tuple[str, list[str]]]]:
+    seed = int(argv[0])
+    n = int(argv[1])
+    scripts, i = [], 2
+    for _ in range(n):
+        path, nargs = argv[i], int(argv[i + 1])
+        scripts.append((path, argv[i + 2:i + 2 + nargs]))
+        i += 2 + nargs
+    return seed, scripts
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    seed, scripts = _parse_scripts(argv)
+    inp, out = os.dup(0), os.dup(1)
+    devnull = os.open(os.devnull, os.O_RDONLY)
+    os.dup2(devnull, 0)
+    os.close(devnull)
+    os.dup2(2, 1)
+    sys.stdout = sys.stderr
+
+    import random
+
+    import ddes
+    from ddes.compat.scripts import run_script
+    from ddes.grading import protocol
+    from ddes.graph.world import World
+
+    world = World(seed, wall_budget=None)
+    world.log_output = None
+    bridge = _Bridge(world, out)
+    random.seed(seed)
+    cwd = os.getcwd()
+    reads = sorted({sys.prefix, sys.base_prefix, sys.exec_prefix, ddes.__path__[0],
+                    os.path.dirname(os.path.realpath(sys.executable)), "/usr/lib", "/usr/lib64",
+                    "/lib", "/lib64", "/usr/share/zoneinfo", "/dev/urandom", "/dev/null"})
+    reads += [p for p in sys.path if p and os.path.isdir(p) and "site-packages" in p]
+    abi = landlock(reads, [cwd]) if os.environ.get("DDES_GRADING_LANDLOCK", "1") == "1" else 0
+    print(f"[ddes grading sandbox] landlock abi {abi}", file=sys.stderr, flush=True)
+    for name in [m for m in sys.modules if m.split(".")[0] in ("ctypes", "_ctypes")]:
+        del sys.modules[name]
+    sys.addaudithook(_audit)
+
+    def printer(line: str, _err: bool) -> None:
+        print(line, file=sys.stderr, flush=True)
+
+    started = False
+    while True:
+        try:
+            header = _read_exact(inp, protocol.HEADER.size)
+        except EOFError:
+            return 0
+        kind, length = protocol.decode_header(header)
+        frame = protocol.decode_frame(kind, _read_exact(inp, length))
+        if not isinstance(frame, protocol.Step):
+            return 0
+        t = frame.t_ns
+        if world.now < t:
+            world.run(until=_ns(t))
+        bridge.inject(frame.messages)
+        if not started:
+            started = True
+            for path, args in scripts:
+                run_script(world, os.path.join(cwd, path), args, print_line=printer)
+        world.run_through(t)
+        bridge.discover()
+        nxt = world.env.peek()
+        bridge.flush(-1 if nxt == float("inf") else int(nxt))
+
+
+def _ns(t: int) -> Any:
+    from ddes.time import Time
+
+    return Time._from_ns(t)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

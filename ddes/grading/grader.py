@@ -1,0 +1,118 @@
+"""Grade one submission: prepare it, run each scenario in lockstep, score the criteria.
+
+A criterion's points are the mean over scenarios of what its check earned in each (partial
+credit across scenarios).  A check that raises earns 0 for that scenario and says so (fail
+closed); points are clamped to ``[0, max]`` and anything not a finite number earns 0.  A
+problem with the submission (it cannot be read, a required file is missing) is reported with
+what it costs; the criteria are still computed on whatever ran.
+"""
+
+from __future__ import annotations
+
+import shlex
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import ddes
+from ddes.errors import SubmissionError
+from ddes.grading.bridge import Lockstep
+from ddes.grading.exercise import Exercise, Facts, Scenario
+from ddes.grading.report import CriterionReport, GradeReport, finite_points
+from ddes.grading.sandbox import Limits, Sandbox, SandboxOutcome
+from ddes.grading.submission import prepare
+from ddes.graph.world import World
+from ddes.time.units import to_ns
+
+__all__ = ["grade", "replay_command"]
+
+
+def replay_command(exercise: Exercise, submission: str, seed: int, public: bool) -> str:
+    words = ["ddes", "grade", exercise.id, submission, "--seed", str(seed)]
+    if public:
+        words.append("--public")
+    return shlex.join(words)
+
+
+def grade(exercise: Exercise, submission: str | Path, *, seed: int = 0, public: bool = False,
+          limits: Limits | None = None) -> GradeReport:
+    """Grade ``submission`` (a folder, .zip or .ipynb) for ``exercise``; never raises for a bad
+    submission or a misbehaving student process."""
+    start = time.perf_counter()
+    shown = str(submission)
+    report = GradeReport(exercise=exercise.id, title=exercise.title, submission=shown, seed=seed,
+                         public=public, ddes_version=ddes.__version__)
+    replay = replay_command(exercise, shown, seed, public)
+    scores: dict[str, list[float]] = {c.id: [] for c in exercise.criteria}
+    evidence: dict[str, list[str]] = {c.id: [] for c in exercise.criteria}
+    tmp = Path(tempfile.mkdtemp(prefix="ddes-submission-"))
+    try:
+        prepared: Path | None = tmp / "submission"
+        assert prepared is not None
+        try:
+            report.submission_sha256 = prepare(submission, prepared)
+        except SubmissionError as exc:
+            report.problems.append(f"{exc} — costs every criterion")
+            prepared = None
+        missing = [] if prepared is None else [
+            f for f in exercise.required() if not (prepared / f).is_file()]
+        if missing:
+            report.problems.append(f"missing file(s): {', '.join(missing)} — costs the criteria "
+                                   "that need them")
+        scenarios = exercise.scenarios(seed, public)
+        if public:
+            scenarios = [s for s in scenarios if not s.hidden]
+        for scenario in scenarios:
+            _run_scenario(exercise, scenario, prepared, limits, report, scores, evidence)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    for c in exercise.criteria:
+        got = scores[c.id]
+        points = sum(got) / len(got) if got else 0.0
+        report.criteria.append(CriterionReport(
+            id=c.id, name=c.name, points=float(round(points, 4)), max_points=float(c.max_points),
+            visibility=c.visibility, evidence=evidence[c.id], replay=replay))
+    report.execution_time = time.perf_counter() - start
+    return report
+
+
+def _run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
+                  limits: Limits | None, report: GradeReport, scores: dict[str, list[float]],
+                  evidence: dict[str, list[str]]) -> None:
+    world = World(scenario.seed, wall_budget=None)
+    world.log_output = None
+    exercise.build(world, scenario)
+    until = to_ns(exercise.duration, "duration")
+    if prepared is not None:
+        scripts = [(p, a) for p, a in exercise.scripts if (prepared / p).is_file()]
+        sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits)
+        lock = Lockstep(world, sandbox)
+        outcome = lock.run(until)
+        refused = lock.problems
+        nodes = list(lock.proxies)
+        report.enforced = list(outcome.enforced)
+    else:
+        world.run(until=until / 1e9)
+        outcome = SandboxOutcome(state="not started", reason="the submission could not be read")
+        refused, nodes = [], []
+    if outcome.state in ("killed", "exited"):
+        report.problems.append(f"{scenario.name}: {outcome.reason}")
+    if refused:
+        report.problems.append(f"{scenario.name}: the grader refused {len(refused)} item(s) from "
+                               f"the student's process, first at t={refused[0][0] / 1e9:.3f} s: "
+                               f"{refused[0][1]}")
+    facts = Facts(exercise=exercise, scenario=scenario, world=world, outcome=outcome,
+                  refused=refused, submission=prepared if prepared is not None else Path("/nonexistent"),
+                  student_nodes=nodes)
+    for c in exercise.criteria:
+        try:
+            points, lines = c.check(facts)
+            got = finite_points(points, c.max_points)
+            lines = [str(x)[:500] for x in list(lines)[:20]]
+        except Exception as exc:  # noqa: BLE001 - a check that fails earns nothing and says why
+            got, lines = 0.0, [f"the check could not be computed: {type(exc).__name__}: {exc}"]
+        scores[c.id].append(got)
+        if got < c.max_points:
+            tag = f"{scenario.name} (seed {scenario.seed})" if not scenario.hidden else scenario.name
+            evidence[c.id] += [f"{tag}: {line}" for line in lines] or [f"{tag}: failed"]

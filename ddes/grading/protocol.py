@@ -1,0 +1,258 @@
+"""The framed protocol between the trusted grader and the sandboxed child.
+
+Only this crosses the pipe: fixed binary frames built with :mod:`struct` and
+UTF-8 strings, each size bounded; no pickle, no JSON, no ``eval``.  The trusted
+side decodes a frame with :func:`decode_frame`, which checks every length, and
+then validates the content (names, types, md5 sums, stamps) itself.
+
+A frame is ``b"DG"``, one byte of kind, a big-endian ``u32`` payload length,
+then the payload.  Payload fields: ``str`` is a ``u16`` length and UTF-8 bytes
+(at most :data:`MAX_STR` bytes), ``blob`` a ``u32`` length and raw bytes,
+``i64``/``i32``/``u8`` fixed-width big-endian integers.
+
+Kinds, grader → child:
+
+* ``STEP t_ns [topic type md5 blob]*``: the messages the student's
+  subscriptions receive at ``t_ns``; the child publishes them at ``t_ns`` and
+  runs every event due at or before ``t_ns``.
+* ``END``: the grade is over; the child exits.
+
+Kinds, child → grader (the reply to one STEP ends with ``DONE``):
+
+* ``ADV node topic type md5 latch``: a student node advertised a topic.
+* ``SUB node topic type md5 queue_size``: a student node subscribed (-1: no limit).
+* ``MSG node topic t_ns blob``: a student node published these wire bytes at ``t_ns``.
+* ``GONE node``: a student node has shut down.
+* ``DONE next_ns``: the step is over; the child's next event is at ``next_ns`` (-1: none).
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+
+from ddes.errors import ProtocolError
+
+__all__ = [
+    "ADV",
+    "DONE",
+    "END",
+    "GONE",
+    "HEADER",
+    "MAX_FRAME",
+    "MAX_STR",
+    "MSG",
+    "STEP",
+    "SUB",
+    "Adv",
+    "Done",
+    "Gone",
+    "Msg",
+    "Step",
+    "Sub",
+    "decode_frame",
+    "decode_header",
+    "encode_adv",
+    "encode_done",
+    "encode_end",
+    "encode_gone",
+    "encode_msg",
+    "encode_step",
+    "encode_sub",
+]
+
+MAGIC = b"DG"
+HEADER = struct.Struct(">2sBI")
+#: Largest payload of one frame (bytes); a longer announced length is a protocol error.
+MAX_FRAME = 8 * 1024 * 1024
+#: Longest string field (bytes of UTF-8): names, types and md5 sums are far shorter.
+MAX_STR = 1024
+
+STEP, END = 1, 2
+ADV, SUB, MSG, GONE, DONE = 10, 11, 12, 13, 14
+_KINDS = {STEP, END, ADV, SUB, MSG, GONE, DONE}
+
+_I64 = struct.Struct(">q")
+_I32 = struct.Struct(">i")
+_U32 = struct.Struct(">I")
+_U16 = struct.Struct(">H")
+
+
+@dataclass(frozen=True)
+class Step:
+    t_ns: int
+    messages: tuple[tuple[str, str, str, bytes], ...]
+
+
+@dataclass(frozen=True)
+class Adv:
+    node: str
+    topic: str
+    type: str
+    md5: str
+    latch: bool
+
+
+@dataclass(frozen=True)
+class Sub:
+    node: str
+    topic: str
+    type: str
+    md5: str
+    queue_size: int
+
+
+@dataclass(frozen=True)
+class Msg:
+    node: str
+    topic: str
+    t_ns: int
+    data: bytes
+
+
+@dataclass(frozen=True)
+class Gone:
+    node: str
+
+
+@dataclass(frozen=True)
+class Done:
+    next_ns: int
+
+
+Frame = Step | Adv | Sub | Msg | Gone | Done | None
+
+
+def _s(text: str) -> bytes:
+    raw = text.encode("utf-8")
+    if len(raw) > MAX_STR:
+        raise ProtocolError(f"string field of {len(raw)} bytes (at most {MAX_STR}): {text[:40]!r}…")
+    return _U16.pack(len(raw)) + raw
+
+
+def _b(data: bytes) -> bytes:
+    return _U32.pack(len(data)) + data
+
+
+def _frame(kind: int, payload: bytes) -> bytes:
+    if len(payload) > MAX_FRAME:
+        raise ProtocolError(f"frame of {len(payload)} bytes (at most {MAX_FRAME})")
+    return HEADER.pack(MAGIC, kind, len(payload)) + payload
+
+
+def encode_step(t_ns: int, messages: list[tuple[str, str, str, bytes]]) -> bytes:
+    parts = [_I64.pack(t_ns), _U32.pack(len(messages))]
+    for topic, type_, md5, data in messages:
+        parts += [_s(topic), _s(type_), _s(md5), _b(data)]
+    return _frame(STEP, b"".join(parts))
+
+
+def encode_end() -> bytes:
+    return _frame(END, b"")
+
+
+def encode_adv(node: str, topic: str, type_: str, md5: str, latch: bool) -> bytes:
+    return _frame(ADV, _s(node) + _s(topic) + _s(type_) + _s(md5) + bytes([1 if latch else 0]))
+
+
+def encode_sub(node: str, topic: str, type_: str, md5: str, queue_size: int) -> bytes:
+    return _frame(SUB, _s(node) + _s(topic) + _s(type_) + _s(md5) + _I32.pack(queue_size))
+
+
+def encode_msg(node: str, topic: str, t_ns: int, data: bytes) -> bytes:
+    return _frame(MSG, _s(node) + _s(topic) + _I64.pack(t_ns) + _b(data))
+
+
+def encode_gone(node: str) -> bytes:
+    return _frame(GONE, _s(node))
+
+
+def encode_done(next_ns: int) -> bytes:
+    return _frame(DONE, _I64.pack(next_ns))
+
+
+def decode_header(header: bytes) -> tuple[int, int]:
+    """``(kind, payload length)`` of a 7-byte header; ProtocolError if it is not one."""
+    if len(header) != HEADER.size:
+        raise ProtocolError(f"cut frame header ({len(header)} of {HEADER.size} bytes)")
+    magic, kind, length = HEADER.unpack(header)
+    if magic != MAGIC:
+        raise ProtocolError(f"bad frame magic {magic!r} (expected {MAGIC!r})")
+    if kind not in _KINDS:
+        raise ProtocolError(f"unknown frame kind {kind}")
+    if length > MAX_FRAME:
+        raise ProtocolError(f"frame announces {length} bytes (at most {MAX_FRAME})")
+    return kind, length
+
+
+class _Reader:
+    def __init__(self, data: bytes) -> None:
+        self.data = data
+        self.pos = 0
+
+    def take(self, n: int) -> bytes:
+        end = self.pos + n
+        if end > len(self.data):
+            raise ProtocolError(f"frame field runs past the payload ({end} > {len(self.data)})")
+        out = self.data[self.pos:end]
+        self.pos = end
+        return out
+
+    def s(self) -> str:
+        (n,) = _U16.unpack(self.take(2))
+        if n > MAX_STR:
+            raise ProtocolError(f"string field of {n} bytes (at most {MAX_STR})")
+        try:
+            return self.take(n).decode("utf-8")
+        except UnicodeDecodeError:
+            raise ProtocolError("string field is not UTF-8") from None
+
+    def b(self) -> bytes:
+        (n,) = _U32.unpack(self.take(4))
+        return self.take(n)
+
+    def i64(self) -> int:
+        return int(_I64.unpack(self.take(8))[0])
+
+    def i32(self) -> int:
+        return int(_I32.unpack(self.take(4))[0])
+
+    def u8(self) -> int:
+        return self.take(1)[0]
+
+    def end(self) -> None:
+        if self.pos != len(self.data):
+            raise ProtocolError(f"{len(self.data) - self.pos} stray bytes after the frame's fields")
+
+
+def decode_frame(kind: int, payload: bytes) -> Frame:
+    """The frame of ``kind`` from its payload (None for END); ProtocolError on any bad field."""
+    r = _Reader(payload)
+    out: Frame
+    if kind == STEP:
+        t = r.i64()
+        (n,) = _U32.unpack(r.take(4))
+        msgs = []
+        for _ in range(n):
+            msgs.append((r.s(), r.s(), r.s(), r.b()))
+        out = Step(t, tuple(msgs))
+    elif kind == END:
+        out = None
+    elif kind == ADV:
+        node, topic, type_, md5 = r.s(), r.s(), r.s(), r.s()
+        latch = r.u8()
+        if latch not in (0, 1):
+            raise ProtocolError(f"latch flag {latch} (0 or 1)")
+        out = Adv(node, topic, type_, md5, bool(latch))
+    elif kind == SUB:
+        out = Sub(r.s(), r.s(), r.s(), r.s(), r.i32())
+    elif kind == MSG:
+        out = Msg(r.s(), r.s(), r.i64(), r.b())
+    elif kind == GONE:
+        out = Gone(r.s())
+    elif kind == DONE:
+        out = Done(r.i64())
+    else:  # decode_header refused it already
+        raise ProtocolError(f"unknown frame kind {kind}")
+    r.end()
+    return out

@@ -1,0 +1,373 @@
+"""Student code in a separate, resource-limited process: the trusted side of the pipe.
+
+:class:`Sandbox` starts ``python -s -P -B -m ddes.grading.child`` (:mod:`ddes.grading.child`)
+on a temporary copy of the submission and talks to it only in the frames of
+:mod:`ddes.grading.protocol`.  What is enforced on the child (each also listed in
+:attr:`Sandbox.enforced`, which the report carries):
+
+* **rlimits**: address space (:attr:`Limits.memory_bytes`), CPU seconds, the size of any file
+  it writes (its captured stderr included), open files, processes (``RLIMIT_NPROC``), no core
+  files;
+* **its own session and process group** (``setsid``): the grader kills the whole group;
+* **no network**: a fresh network namespace (``unshare(CLONE_NEWNET)``, or with a user namespace
+  when the grader is not root); where neither can be made, Landlock's TCP rules and the audit
+  hook remain, and :attr:`Sandbox.enforced` says so;
+* **an unprivileged user**: when the grader runs as root the child runs as ``nobody``;
+* **files**: Landlock (when the kernel has it) limits reading to the Python installation, ddes
+  and the submission copy, and writing to the submission copy;
+* **a scrubbed environment** (``PATH``, ``HOME`` and ``TMPDIR`` in the copy, ``PYTHONHASHSEED=0``,
+  one BLAS thread) and the copy as working directory; ``-s -P`` keep the user's site
+  packages and the working directory off ``sys.path``;
+* **captured output with a cap**: stdout and stderr of the student go to one file whose size the
+  file-size rlimit bounds; the report keeps its last :attr:`Limits.output_keep` bytes;
+* **wall budgets**: a step not answered within :attr:`Limits.step_wall_s`
+  (:attr:`Limits.startup_wall_s` for the first, which imports ddes and starts the scripts) ends
+  the child; the grade goes on without it.
+
+The trusted side never imports, unpickles or evaluates anything from the child: a reply is
+decoded by :func:`ddes.grading.protocol.decode_frame` and validated by the caller
+(:mod:`ddes.grading.bridge`); anything malformed ends the child (fail closed).
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import select
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ddes.errors import GradingError, ProtocolError
+from ddes.grading import protocol
+
+__all__ = ["Limits", "Sandbox", "SandboxOutcome", "StepReply"]
+
+_NOBODY = 65534
+_CLONE_NEWUSER = 0x10000000
+_CLONE_NEWNET = 0x40000000
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Resource limits of the child."""
+
+    memory_bytes: int = 768 * 1024 * 1024
+    cpu_seconds: int = 60
+    file_bytes: int = 16 * 1024 * 1024
+    open_files: int = 64
+    processes: int = 16
+    step_wall_s: float = 5.0
+    startup_wall_s: float = 30.0
+    output_keep: int = 16 * 1024
+    #: Most bytes of frames one step may return before it counts as flooding.
+    step_bytes: int = 64 * 1024 * 1024
+
+
+@dataclass
+class StepReply:
+    """What the child answered to one STEP (frames still to be validated by the bridge)."""
+
+    frames: list[protocol.Adv | protocol.Sub | protocol.Msg | protocol.Gone] = field(
+        default_factory=list)
+    next_ns: int = -1
+
+
+@dataclass
+class SandboxOutcome:
+    """How the child ended, for the report."""
+
+    #: "running", "finished", "exited" (it ended by itself), "killed" (a budget or a bad frame).
+    state: str = "running"
+    reason: str = ""
+    returncode: int | None = None
+    output_tail: str = ""
+    enforced: list[str] = field(default_factory=list)
+
+
+def _others_can_run_python() -> bool:
+    """True when a user other than the owner can run this Python and import ddes (every
+    directory on the way searchable by others, the files readable by them)."""
+    import ddes
+
+    paths = [os.path.realpath(sys.executable), os.path.realpath(ddes.__file__),
+             os.path.realpath(os.__file__)]
+    for path in paths:
+        p = Path(path)
+        if not p.exists() or not p.stat().st_mode & 0o004:
+            return False
+        for parent in p.parents:
+            if not parent.stat().st_mode & 0o001:
+                return False
+    return True
+
+
+def landlock_abi() -> int:
+    """The kernel's Landlock ABI version (0: none)."""
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.syscall.restype = ctypes.c_long
+        return max(0, int(libc.syscall(444, None, 0, 1)))
+    except (OSError, AttributeError):
+        return 0
+
+
+def _libc_unshare() -> object:
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    return libc.unshare
+
+
+class Sandbox:
+    """One child process running ``scripts`` (paths relative to ``submission``)."""
+
+    def __init__(self, submission: str | os.PathLike[str], scripts: Sequence[tuple[str, Sequence[str]]],
+                 *, seed: int = 0, limits: Limits | None = None, network_namespace: bool = True,
+                 landlock: bool = True, drop_user: bool = True) -> None:
+        self.limits = limits or Limits()
+        self.seed = seed
+        self.scripts = [(str(p), [str(a) for a in args]) for p, args in scripts]
+        self._root = Path(tempfile.mkdtemp(prefix="ddes-grade-"))
+        self.workdir = self._root / "work"
+        shutil.copytree(submission, self.workdir, symlinks=False)
+        self._output_path = self._root / "output.txt"
+        self._as_nobody = drop_user and os.geteuid() == 0 and _others_can_run_python()
+        if self._as_nobody:
+            os.chmod(self._root, 0o711)
+            for dirpath, _dirs, files in os.walk(self.workdir):
+                os.chown(dirpath, _NOBODY, _NOBODY)
+                for f in files:
+                    os.chown(os.path.join(dirpath, f), _NOBODY, _NOBODY)
+        self._network_namespace = network_namespace
+        self._landlock = landlock
+        self.outcome = SandboxOutcome()
+        self._proc: subprocess.Popen[bytes] | None = None
+        self._first = True
+        self._buf = b""
+
+    # -- life -----------------------------------------------------------------------------------
+    @property
+    def alive(self) -> bool:
+        return self._proc is not None and self.outcome.state == "running"
+
+    @property
+    def enforced(self) -> list[str]:
+        return self.outcome.enforced
+
+    def start(self) -> None:
+        argv = [str(self.seed), str(len(self.scripts))]
+        for path, args in self.scripts:
+            argv += [path, str(len(args)), *args]
+        env = {"PATH": "/usr/bin:/bin", "HOME": str(self.workdir), "TMPDIR": str(self.workdir),
+               "PYTHONHASHSEED": "0", "PYTHONDONTWRITEBYTECODE": "1", "LANG": "C.UTF-8",
+               "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+               "DDES_GRADING_LANDLOCK": "1" if self._landlock else "0"}
+        cmd = [sys.executable, "-s", "-P", "-B", "-m", "ddes.grading.child", *argv]
+        out = open(self._output_path, "wb")  # noqa: SIM115 - handed to the child, closed below
+        enforced = ["rlimits (address space, CPU, file size, open files, processes, no core)",
+                    "own session and process group", "scrubbed environment",
+                    "output captured with a cap"]
+        try:
+            tries = [True, False] if self._network_namespace else [False]
+            for netns in tries:
+                try:
+                    self._proc = subprocess.Popen(
+                        cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=out,
+                        cwd=self.workdir, env=env, start_new_session=True, close_fds=True,
+                        preexec_fn=self._preexec(netns))
+                except subprocess.SubprocessError:
+                    if netns:
+                        continue
+                    raise
+                enforced.append("network namespace (no network)" if netns else
+                                "NO network namespace: Landlock TCP rules and the audit hook only")
+                break
+        finally:
+            out.close()
+        if self._as_nobody:
+            enforced.append("unprivileged user nobody")
+        elif os.geteuid() == 0:
+            enforced.append("NOT a separate user: this Python is not readable by others")
+        abi = landlock_abi() if self._landlock else 0
+        enforced.append(f"Landlock ABI {abi}: files (read: Python, ddes, the copy; write: the "
+                        "copy), TCP and signals confined" if abi else
+                        "NO Landlock (kernel without it, or switched off): files not confined")
+        enforced.append("audit hook: no sockets, subprocesses, exec, fork, ctypes, kill")
+        self.outcome.enforced = enforced
+        assert self._proc is not None and self._proc.stdout is not None
+        os.set_blocking(self._proc.stdout.fileno(), False)
+        assert self._proc.stdin is not None
+        os.set_blocking(self._proc.stdin.fileno(), False)
+
+    def _preexec(self, netns: bool) -> Callable[[], None]:
+        lim = self.limits
+        unshare = _libc_unshare() if netns else None
+        as_nobody = self._as_nobody
+
+        def run() -> None:
+            resource.setrlimit(resource.RLIMIT_AS, (lim.memory_bytes, lim.memory_bytes))
+            resource.setrlimit(resource.RLIMIT_CPU, (lim.cpu_seconds, lim.cpu_seconds))
+            resource.setrlimit(resource.RLIMIT_FSIZE, (lim.file_bytes, lim.file_bytes))
+            resource.setrlimit(resource.RLIMIT_NOFILE, (lim.open_files, lim.open_files))
+            resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+            resource.setrlimit(resource.RLIMIT_NPROC, (lim.processes, lim.processes))
+            if unshare is not None:
+                flags = _CLONE_NEWNET if os.geteuid() == 0 else _CLONE_NEWUSER | _CLONE_NEWNET
+                if unshare(flags) != 0:  # type: ignore[operator]
+                    raise OSError("unshare failed")
+            if as_nobody:
+                os.setgroups([])
+                os.setgid(_NOBODY)
+                os.setuid(_NOBODY)
+
+        return run
+
+    # -- steps ----------------------------------------------------------------------------------
+    def step(self, t_ns: int, messages: list[tuple[str, str, str, bytes]]) -> StepReply | None:
+        """Send one STEP and read its reply; None (and the child ended) when it fails."""
+        if not self.alive:
+            return None
+        budget = self.limits.startup_wall_s if self._first else self.limits.step_wall_s
+        self._first = False
+        deadline = time.monotonic() + budget
+        try:
+            self._send(protocol.encode_step(t_ns, messages), deadline)
+            return self._reply(t_ns, deadline)
+        except TimeoutError:
+            self.kill("killed", f"no answer within the {budget:g} s wall budget of a step "
+                                f"(at simulated t={t_ns / 1e9:.3f} s)")
+        except EOFError:
+            self._ended(t_ns)
+        except ProtocolError as exc:
+            self.kill("killed", f"broke the protocol at t={t_ns / 1e9:.3f} s: {exc}")
+        except OSError as exc:  # a broken pipe: it has gone
+            self._ended(t_ns, str(exc))
+        return None
+
+    def _send(self, data: bytes, deadline: float) -> None:
+        assert self._proc is not None and self._proc.stdin is not None
+        fd = self._proc.stdin.fileno()
+        view = memoryview(data)
+        while view:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            _, w, _ = select.select([], [fd], [], left)
+            if w:
+                view = view[os.write(fd, view):]
+
+    def _read(self, n: int, deadline: float) -> bytes:
+        assert self._proc is not None and self._proc.stdout is not None
+        fd = self._proc.stdout.fileno()
+        while len(self._buf) < n:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            r, _, _ = select.select([fd], [], [], left)
+            if not r:
+                continue
+            chunk = os.read(fd, max(65536, n - len(self._buf)))
+            if not chunk:
+                raise EOFError
+            self._buf += chunk
+        out, self._buf = self._buf[:n], self._buf[n:]
+        return out
+
+    def _reply(self, t_ns: int, deadline: float) -> StepReply:
+        reply = StepReply()
+        total = 0
+        while True:
+            kind, length = protocol.decode_header(self._read(protocol.HEADER.size, deadline))
+            total += length + protocol.HEADER.size
+            if total > self.limits.step_bytes:
+                raise ProtocolError(f"a step returned more than {self.limits.step_bytes} bytes")
+            frame = protocol.decode_frame(kind, self._read(length, deadline))
+            if isinstance(frame, protocol.Done):
+                if frame.next_ns != -1 and frame.next_ns < t_ns:
+                    raise ProtocolError(f"next event at {frame.next_ns} ns is before the step "
+                                        f"({t_ns} ns)")
+                reply.next_ns = frame.next_ns
+                return reply
+            if frame is None or isinstance(frame, protocol.Step):
+                raise ProtocolError("the child sent a grader-side frame")
+            reply.frames.append(frame)
+
+    # -- the end --------------------------------------------------------------------------------
+    def _ended(self, t_ns: int, detail: str = "") -> None:
+        code = self._reap(1.0)
+        why = f"exit code {code}" if code is not None and code >= 0 else (
+            f"signal {signal.Signals(-code).name}" if code is not None else "unknown")
+        self.kill("exited", f"the student's process ended at t={t_ns / 1e9:.3f} s ({why})"
+                            + (f": {detail}" if detail else ""))
+
+    def _reap(self, wait_s: float) -> int | None:
+        if self._proc is None:
+            return None
+        try:
+            return self._proc.wait(wait_s)
+        except subprocess.TimeoutExpired:
+            return None
+
+    def kill(self, state: str, reason: str) -> None:
+        """End the child's whole process group and record why."""
+        if self._proc is not None:
+            try:
+                os.killpg(self._proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+            code = self._reap(5.0)
+            self.outcome.returncode = code
+            for pipe in (self._proc.stdin, self._proc.stdout):
+                try:
+                    if pipe is not None:
+                        pipe.close()
+                except OSError:
+                    pass
+        if self.outcome.state == "running":
+            self.outcome.state, self.outcome.reason = state, reason
+
+    def close(self) -> SandboxOutcome:
+        """End the child (END, then the kill of its group), read its output tail, remove the copy."""
+        if self.alive:
+            try:
+                self._send(protocol.encode_end(), time.monotonic() + 1.0)
+            except (OSError, TimeoutError):
+                pass
+            self.kill("finished", "")
+        elif self._proc is not None:
+            self.kill(self.outcome.state, self.outcome.reason)
+        try:
+            with open(self._output_path, "rb") as f:
+                f.seek(0, os.SEEK_END)
+                size = f.tell()
+                keep = self.limits.output_keep
+                f.seek(max(0, size - keep))
+                tail = f.read(keep).decode("utf-8", "replace").replace("\x00", "\\0")
+                self.outcome.output_tail = ("…" if size > keep else "") + tail
+        except OSError:
+            pass
+        shutil.rmtree(self._root, ignore_errors=True)
+        return self.outcome
+
+    def __enter__(self) -> Sandbox:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def check_limits(limits: Limits) -> None:
+    """Refuse limits a child cannot start under."""
+    if limits.memory_bytes < 128 * 1024 * 1024:
+        raise GradingError(f"memory limit {limits.memory_bytes} B is below 128 MiB: ddes alone "
+                           "needs about 100 MiB; give --mem 256M or more")
