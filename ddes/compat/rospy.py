@@ -32,7 +32,7 @@ from ddes.errors import (
     ROSTimeMovedBackwardsException,
     ServiceException,
 )
-from ddes.graph.blocking import INIT_TEXT, attach, current_task, wait
+from ddes.graph.blocking import INIT_TEXT, attach, current_task, wait, wait_ns
 from ddes.graph.names import NameResolver
 from ddes.graph.rosout import DEBUG as _DEBUG
 from ddes.graph.rosout import ERROR as _ERROR
@@ -242,7 +242,9 @@ class Rate:
     """rospy.Rate: ``rate.sleep()`` blocks this node until the end of the cycle."""
 
     def __init__(self, hz: float, reset: bool = False) -> None:
-        self._rate = _Rate(_time_node(), hz, reset)
+        node = _time_node()
+        self._rate = _Rate(node, hz, reset)
+        self._env = node.world.env
 
     def sleep(self) -> None:
         """Block until the end of the current cycle (rospy's algorithm, ddes.Rate)."""
@@ -256,7 +258,7 @@ class Rate:
         curr = clock.now_ns()
         remaining = rate._remaining(curr)
         rate._advance(curr)
-        wait(clock.env.timeout(remaining if remaining > 0 else 0), "rate.sleep()")
+        wait_ns(self._env, remaining if remaining > 0 else 0, "rate.sleep()")
 
     def remaining(self) -> Duration:
         """Time left in the current cycle."""

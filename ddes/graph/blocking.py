@@ -52,6 +52,7 @@ from ddes.errors import (
     ROSInterruptException,
 )
 from ddes.graph.failures import NODE_OF_PROCESS
+from ddes.kernel.events import post
 
 if TYPE_CHECKING:
     from ddes.graph.callbacks import Callback, CallbackOwner, CallbackQueue
@@ -59,7 +60,7 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
 
 __all__ = ["INIT_TEXT", "GreenTask", "attach", "current_node", "current_task", "is_blocking_node",
-           "run_callback", "run_callback1", "spawn", "wait"]
+           "run_callback", "run_callback1", "spawn", "wait", "wait_ns"]
 
 #: rospy's text for ROS time read before ``init_node`` (``rospy.rostime.get_rostime``).
 INIT_TEXT = "time is not initialized. Have you called init_node()?"
@@ -149,7 +150,7 @@ def current_node() -> Node | None:
     return g.node if isinstance(g, GreenTask) else None
 
 
-def _not_here(event: simpy.Event, what: str) -> BlockingCallError:
+def _not_here(env: simpy.Environment, what: str) -> BlockingCallError:
     """The error for a blocking call ``what`` made outside a task."""
     if threading.current_thread() is not threading.main_thread():
         return BlockingOutsideNodeError(
@@ -157,7 +158,7 @@ def _not_here(event: simpy.Event, what: str) -> BlockingCallError:
             f"({threading.current_thread().name}): ddes runs every node on the kernel's thread, "
             "so a thread of your own cannot block on simulated time. Do the work in the node's "
             "main or in a callback (rospy.Timer for periodic work) instead of a threading.Thread.")
-    if getattr(event.env, "active_process", None) is not None:
+    if getattr(env, "active_process", None) is not None:
         return BlockingInYieldCodeError(
             f"{what} blocks, but it was called inside yield-style code (a node process or a "
             "generator callback run by the kernel), which cannot block. Either yield the event "
@@ -183,7 +184,7 @@ def wait(event: simpy.Event, what: str = "a blocking call", *,
     """
     task = getcurrent()
     if not isinstance(task, GreenTask):
-        raise _not_here(event, what)
+        raise _not_here(event.env, what)
     callbacks = event.callbacks
     if callbacks is None:  # processed already: no need to block
         return _outcome(event)
@@ -198,6 +199,25 @@ def wait(event: simpy.Event, what: str = "a blocking call", *,
     if event._ok:
         return event._value
     return _outcome(event)
+
+
+def wait_ns(env: simpy.Environment, delay: int, what: str = "a blocking call") -> None:
+    """Block the running task for ``delay`` ns (>= 0) of kernel time: ``wait(env.timeout(delay))``.
+
+    The same event at the same place in the kernel's queue (:func:`ddes.kernel.events.post`
+    is exactly a timeout with one callback), made without SimPy's Timeout constructor: the
+    path of every ``rate.sleep()`` in a rospy loop.  Interruptible, as :func:`wait`.
+    """
+    task = getcurrent()
+    if not isinstance(task, GreenTask):
+        raise _not_here(env, what)
+    task.waiting = post(env, delay, None, task._wake)
+    task.blocked = True
+    task._interruptible = True
+    task.parent.switch(_BLOCKED)  # back here from resume(), which cleared task.waiting
+    if task._interrupt is not None:
+        exc, task._interrupt = task._interrupt, None
+        raise exc
 
 
 def _outcome(event: simpy.Event) -> Any:

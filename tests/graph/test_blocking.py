@@ -11,12 +11,21 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import ddes
+from ddes.compat import rospy
 from ddes.errors import (
     BlockingInYieldCodeError,
     BlockingOutsideNodeError,
     ROSInterruptException,
 )
-from ddes.graph.blocking import INIT_TEXT, current_node, current_task, is_blocking_node, spawn, wait
+from ddes.graph.blocking import (
+    INIT_TEXT,
+    current_node,
+    current_task,
+    is_blocking_node,
+    spawn,
+    wait,
+    wait_ns,
+)
 from ddes.graph.callbacks import GreenCallbackQueue
 from ddes.msg import get_message_class
 
@@ -24,14 +33,23 @@ String = get_message_class("std_msgs/String")
 MS = 1_000_000
 
 
-def _loops(green: bool, periods: list[int], until: float) -> tuple[list[tuple[str, int]], str]:
-    """Loops at several rates, one node each, written blocking or yield-style."""
+def _loops(green: bool | str, periods: list[int], until: float
+           ) -> tuple[list[tuple[str, int]], str]:
+    """Loops at several rates, one node each, written blocking (``"rospy"``: with
+    ``rospy.Rate``) or yield-style."""
     world = ddes.World(seed=3)
     log: list[tuple[str, int]] = []
     for i, hz in enumerate(periods):
         node = world.create_node(f"n{i}")
         rate = ddes.Rate(node, hz)
-        if green:
+        if green == "rospy":
+            def rospy_main(node: Any = node, hz: int = hz) -> None:
+                rospy_rate = rospy.Rate(hz)
+                while not rospy.is_shutdown():
+                    log.append((node.name, world.now))
+                    rospy_rate.sleep()
+            spawn(world, rospy_main, node=node)
+        elif green:
             def main(node: Any = node, rate: Any = rate) -> None:
                 while not node.is_shutdown():
                     log.append((node.name, world.now))
@@ -51,7 +69,29 @@ def _loops(green: bool, periods: list[int], until: float) -> tuple[list[tuple[st
 @given(st.lists(st.integers(1, 50), min_size=1, max_size=4), st.floats(0.1, 2.0))
 def test_blocking_loops_run_in_the_order_and_trace_of_yield_style(periods: list[int],
                                                                   until: float) -> None:
-    assert _loops(True, periods, until) == _loops(False, periods, until)
+    assert _loops(True, periods, until) == _loops(False, periods, until) \
+        == _loops("rospy", periods, until)
+
+
+def test_a_rospy_rate_sleep_is_interrupted_by_shutdown() -> None:
+    world = ddes.World()
+    node = world.create_node("n")
+    log: list[str] = []
+
+    def main() -> None:
+        rate = rospy.Rate(1)
+        try:
+            rate.sleep()
+        except ROSInterruptException as exc:
+            log.append(f"{exc} at {world.now / 1e9}")
+            raise
+
+    done = spawn(world, main, node=node)
+    world.call_at(300 * MS, lambda: node.shutdown("bye"))
+    world.run(until=5.0)
+    assert log == ["ROS shutdown request at 0.3"] and done.ok and done.value is None
+    with pytest.raises(BlockingOutsideNodeError, match="rate.sleep"):
+        wait_ns(world.env, MS, "rate.sleep()")
 
 
 def test_a_main_runs_at_once_until_it_blocks_and_sees_the_events_value() -> None:
