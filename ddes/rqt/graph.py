@@ -76,7 +76,10 @@ def layered_layout(vertices: list[Vertex], edges: list[tuple[Vertex, Vertex]],
     # break cycles: keep only edges of the DFS forest and cross/forward edges
     state: dict[Vertex, int] = {}
     dag: dict[Vertex, list[Vertex]] = {v: [] for v in order}
-    for root in order:
+    has_in = {b for a, b in edges}
+    # sources first, then nodes before topics, each by name: a cycle is entered at a node
+    roots = sorted(order, key=lambda v: (v in has_in, v[0] != "node", v[1]))
+    for root in roots:
         if root in state:
             continue
         stack: list[tuple[Vertex, int]] = [(root, 0)]

@@ -53,7 +53,11 @@ def split_field(name: str, topics: list[str]) -> tuple[str, list[str]]:
                 and len(topic) > len(best):
             best = topic
     if not best:
-        near = difflib.get_close_matches(name, topics, n=1, cutoff=0.4)
+        scored = []
+        for topic in topics:  # compare each topic with as many of the name's parts
+            head = "/".join(name.split("/")[:topic.count("/") + 1])
+            scored.append((difflib.SequenceMatcher(None, head, topic).ratio(), topic))
+        near = [t for r, t in sorted(scored, key=lambda rt: -rt[0]) if r >= 0.6][:1]
         hint = f"; did you mean a field of {near[0]!r}?" if near else ""
         raise DdesValueError(f"rqt_plot: no topic is a prefix of {name!r}{hint} "
                              f"(topics: {', '.join(topics) or 'none'})")
