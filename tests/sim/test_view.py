@@ -169,3 +169,16 @@ def test_animation_gif_and_html(tmp_path: Path) -> None:
     fresh = Simulator(ddes.World(seed=1), WorldSpec.load("empty"))
     with pytest.raises(DdesValueError, match="no history yet"):
         animate(fresh)
+
+
+def test_the_docs_pictures_and_their_script(tmp_path: Path) -> None:
+    import runpy
+
+    repo = Path(__file__).resolve().parents[2]
+    assert "images/top_view.png" in (repo / "docs" / "sim.md").read_text()
+    for name in ("top_view.png", "rqt_graph.png", "rqt_plot.png"):
+        assert (repo / "docs" / "images" / name).read_bytes()[:4] == b"\x89PNG"
+    script = runpy.run_path(str(repo / "examples" / "sim_pictures.py"))
+    written = script["main"](tmp_path)
+    assert [p.name for p in written] == ["top_view.png", "rqt_graph.png", "rqt_plot.png"]
+    assert all(p.stat().st_size > 5000 for p in written)
