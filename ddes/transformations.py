@@ -57,18 +57,24 @@ Matrix = list[list[float]]
 # --- deterministic elementary functions (fdlibm / musl) ------------------------------------
 
 
+_pack_d = struct.Struct("<d").pack
+_unpack_d = struct.Struct("<d").unpack
+_unpack_q = struct.Struct("<q").unpack
+_unpack_high = struct.Struct("<4xI").unpack  # the high word of a little-endian double
+
+
 def _bits(x: float) -> int:
-    return int(struct.unpack("<q", struct.pack("<d", x))[0])
+    return int(_unpack_q(_pack_d(x))[0])
 
 
 def _high(x: float) -> int:
     """The high 32-bit word of a double, sign bit included (fdlibm's GET_HIGH_WORD)."""
-    return (_bits(x) >> 32) & 0xFFFFFFFF
+    return int(_unpack_high(_pack_d(x))[0])
 
 
 def _clear_low(x: float) -> float:
     """x with its low 32 bits zeroed (fdlibm's SET_LOW_WORD(x, 0))."""
-    return float(struct.unpack("<d", struct.pack("<q", _bits(x) & ~0xFFFFFFFF))[0])
+    return float(_unpack_d(b"\x00\x00\x00\x00" + _pack_d(x)[4:])[0])
 
 
 def _hex(h: int) -> float:
@@ -144,7 +150,7 @@ def _pio2_fixed() -> int:
 
 def _rem_pio2(x: float) -> tuple[int, float, float]:
     """x = n*pi/2 + (y0 + y1) with |y0 + y1| <= ~pi/4; returns (n mod 4, y0, y1)."""
-    hx = _high(x)
+    hx = _unpack_high(_pack_d(x))[0]
     ix = hx & 0x7FFFFFFF
     if ix < 0x413921FB:  # |x| < 2**20 * pi/2: Cody-Waite in three rounds (musl __rem_pio2)
         fn = x * _INVPIO2 + _TOINT - _TOINT
@@ -163,14 +169,14 @@ def _rem_pio2(x: float) -> tuple[int, float, float]:
             w = fn * _PIO2_1T
         y0 = r - w
         ex = ix >> 20
-        ey = (_high(y0) >> 20) & 0x7FF
+        ey = (_unpack_high(_pack_d(y0))[0] >> 20) & 0x7FF
         if ex - ey > 16:
             t = r
             w = fn * _PIO2_2
             r = t - w
             w = fn * _PIO2_2T - ((t - r) - w)
             y0 = r - w
-            ey = (_high(y0) >> 20) & 0x7FF
+            ey = (_unpack_high(_pack_d(y0))[0] >> 20) & 0x7FF
             if ex - ey > 49:
                 t = r
                 w = fn * _PIO2_3
@@ -192,10 +198,23 @@ def _rem_pio2(x: float) -> tuple[int, float, float]:
     return n & 3, y0, y1
 
 
+#: |x| < _SIN_KERNEL exactly when |x|'s high word is <= 0x3FE921FB (sin's kernel range), and
+#: |x| < _SIN_TINY when it is < 0x3E500000: float comparisons that decide as fdlibm's integer ones.
+_SIN_KERNEL = _hex(0x3FE921FC00000000)
+_SIN_TINY = _hex(0x3E50000000000000)
+
+
 def sin(x: float) -> float:
     """sin(x), deterministic (fdlibm's algorithm, within 1 ulp)."""
     x = float(x)
-    ix = _high(x) & 0x7FFFFFFF
+    if -_SIN_KERNEL < x < _SIN_KERNEL:  # the common case, _ksin(x, 0.0, 0) inline
+        if -_SIN_TINY < x < _SIN_TINY:
+            return x
+        z = x * x
+        w = z * z
+        r = _S2 + z * (_S3 + z * _S4) + z * w * (_S5 + z * _S6)
+        return x + z * x * (_S1 + z * r)
+    ix = _unpack_high(_pack_d(x))[0] & 0x7FFFFFFF
     if ix <= 0x3FE921FB:
         if ix < 0x3E500000:
             return x
@@ -215,7 +234,7 @@ def sin(x: float) -> float:
 def cos(x: float) -> float:
     """cos(x), deterministic (fdlibm's algorithm, within 1 ulp)."""
     x = float(x)
-    ix = _high(x) & 0x7FFFFFFF
+    ix = _unpack_high(_pack_d(x))[0] & 0x7FFFFFFF
     if ix <= 0x3FE921FB:
         if ix < 0x3E46A09E:
             return 1.0
@@ -245,7 +264,7 @@ _AT = (3.33333333333329318027e-01, -1.99999999998764832476e-01, 1.42857142725034
 def atan(x: float) -> float:
     """atan(x), deterministic (fdlibm's algorithm, within 1 ulp)."""
     x = float(x)
-    hx = _high(x)
+    hx = _unpack_high(_pack_d(x))[0]
     sign = hx >> 31
     ix = hx & 0x7FFFFFFF
     if ix >= 0x44100000:  # |x| >= 2**66
@@ -341,7 +360,7 @@ def _r(z: float) -> float:
 def asin(x: float) -> float:
     """asin(x), deterministic (fdlibm's algorithm, within 1 ulp); NaN outside [-1, 1]."""
     x = float(x)
-    hx = _high(x)
+    hx = _unpack_high(_pack_d(x))[0]
     ix = hx & 0x7FFFFFFF
     if ix >= 0x3FF00000:
         if x == 1.0 or x == -1.0:
@@ -366,7 +385,14 @@ def asin(x: float) -> float:
 def acos(x: float) -> float:
     """acos(x), deterministic (fdlibm's algorithm, within 1 ulp); NaN outside [-1, 1]."""
     x = float(x)
-    hx = _high(x)
+    if 0.5 <= x < 1.0:  # high word in [0x3FE00000, 0x3FF00000), sign clear: the last case
+        z = (1.0 - x) * 0.5
+        s = math.sqrt(z)
+        df = _unpack_d(b"\x00\x00\x00\x00" + _pack_d(s)[4:])[0]  # _clear_low(s)
+        c = (z - df * df) / (s + df)
+        w = _r(z) * s + c
+        return 2 * (df + w)
+    hx = _unpack_high(_pack_d(x))[0]
     ix = hx & 0x7FFFFFFF
     if ix >= 0x3FF00000:
         if x == 1.0:

@@ -59,12 +59,21 @@ Vec = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 
 
-def _transform_stamped_class() -> Any:
+_new = object.__new__
+_NS = 1_000_000_000
+
+
+def _message_classes() -> list[Any]:
+    """[TransformStamped, Header, Transform, Vector3, Quaternion]: the result's classes."""
     if not _MESSAGE_CLASS:
         from ddes.msg import get_message_class
 
-        _MESSAGE_CLASS.append(get_message_class("geometry_msgs/TransformStamped"))
-    return _MESSAGE_CLASS[0]
+        cls = get_message_class("geometry_msgs/TransformStamped")
+        default = cls()
+        _MESSAGE_CLASS.extend((cls, type(default.header), type(default.transform),
+                               type(default.transform.translation),
+                               type(default.transform.rotation)))
+    return _MESSAGE_CLASS
 
 
 def _strip_slash(name: str) -> str:
@@ -93,6 +102,26 @@ def _quat_rotate(q: Quat, v: Vec) -> Vec:
     return (pw * ix + px * qw + py * iz - pz * iy,
             pw * iy + py * qw + pz * ix - px * iz,
             pw * iz + pz * qw + px * iy - py * ix)
+
+
+def _accumulate(st: Storage, acc_q: Quat, acc_v: Vec) -> tuple[Quat, Vec]:
+    """TransformAccum's step: v = quatRotate(q, v) + t, q = q * q_acc (``_quat_rotate`` and
+    ``_qmul`` written out term for term, same operations in the same order)."""
+    qx, qy, qz, qw = st[6], st[7], st[8], st[9]
+    vx, vy, vz = acc_v
+    px = qw * vx + qy * vz - qz * vy
+    py = qw * vy + qz * vx - qx * vz
+    pz = qw * vz + qx * vy - qy * vx
+    pw = -qx * vx - qy * vy - qz * vz
+    ix, iy, iz = -qx, -qy, -qz
+    bx, by, bz, bw = acc_q
+    return ((qw * bx + qx * bw + qy * bz - qz * by,
+             qw * by + qy * bw + qz * bx - qx * bz,
+             qw * bz + qz * bw + qx * by - qy * bx,
+             qw * bw - qx * bx - qy * by - qz * bz),
+            (pw * ix + px * qw + py * iz - pz * iy + st[3],
+             pw * iy + py * qw + pz * ix - px * iz + st[4],
+             pw * iz + pz * qw + px * iy - py * ix + st[5]))
 
 
 def _matrix(q: Quat) -> list[Vec]:
@@ -254,6 +283,9 @@ class BufferCore:
 
     # -- validation -----------------------------------------------------------------------
     def _validate(self, what: str, frame: str) -> int:
+        fid = self._ids.get(frame)
+        if fid and frame[0] != "/":  # a known frame (a stored id may start with '/': "//a")
+            return fid
         if not frame:
             raise InvalidArgumentException(
                 f"Invalid argument passed to {what} in tf2 frame_ids cannot be empty")
@@ -387,10 +419,7 @@ class BufferCore:
             if frame == target_id:
                 return NO_ERROR, "", time, src_q, src_v
             if st is not None:
-                q = (st[6], st[7], st[8], st[9])
-                rv = _quat_rotate(q, src_v)
-                src_v = (rv[0] + st[3], rv[1] + st[4], rv[2] + st[5])
-                src_q = _qmul(q, src_q)
+                src_q, src_v = _accumulate(st, src_q, src_v)
             top_parent = frame
             frame = parent
             depth += 1
@@ -418,10 +447,7 @@ class BufferCore:
                 inv_v = _quat_rotate(inv_q, (-tgt_v[0], -tgt_v[1], -tgt_v[2]))
                 return NO_ERROR, "", time, inv_q, inv_v
             if st is not None:
-                q = (st[6], st[7], st[8], st[9])
-                rv = _quat_rotate(q, tgt_v)
-                tgt_v = (rv[0] + st[3], rv[1] + st[4], rv[2] + st[5])
-                tgt_q = _qmul(q, tgt_q)
+                tgt_q, tgt_v = _accumulate(st, tgt_q, tgt_v)
             frame = parent
             depth += 1
             if depth > MAX_GRAPH_DEPTH:
@@ -446,15 +472,29 @@ class BufferCore:
             return time.secs * 1_000_000_000 + time.nsecs
         return time_to_ns(time)
 
-    def _message(self, target: str, source: str, time: int, q: Quat, v: Vec) -> Any:
-        msg = _transform_stamped_class()()
-        msg.header.stamp = Time._from_ns(time)
-        msg.header.frame_id = target
-        msg.child_frame_id = source
-        tr = msg.transform.translation
+    @staticmethod
+    def _message(target: str, source: str, time: int, q: Quat, v: Vec) -> Any:
+        """The TransformStamped result, built slot by slot (what ``TransformStamped()`` and
+        field assignments make, without building the default fields first)."""
+        ts_cls, header_cls, transform_cls, vector_cls, quaternion_cls = \
+            _MESSAGE_CLASS or _message_classes()
+        stamp = _new(Time)
+        stamp.secs, stamp.nsecs = divmod(time, _NS)
+        header = _new(header_cls)
+        header.seq = 0
+        header.stamp = stamp
+        header.frame_id = target
+        tr = _new(vector_cls)
         tr.x, tr.y, tr.z = v
-        rot = msg.transform.rotation
+        rot = _new(quaternion_cls)
         rot.x, rot.y, rot.z, rot.w = q
+        transform = _new(transform_cls)
+        transform.translation = tr
+        transform.rotation = rot
+        msg = _new(ts_cls)
+        msg.header = header
+        msg.child_frame_id = source
+        msg.transform = transform
         return msg
 
     def _lookup(self, target_frame: str, source_frame: str, time: int) -> tuple[int, Quat, Vec]:
@@ -479,7 +519,8 @@ class BufferCore:
                               time: TimeLike) -> Any:
         """The transform from ``source_frame`` to ``target_frame`` at ``time`` (0 = latest
         common time), as a geometry_msgs/TransformStamped; raises tf2's exceptions."""
-        stamp, q, v = self._lookup(target_frame, source_frame, self._time_ns(time))
+        ns = time.secs * _NS + time.nsecs if type(time) is Time else self._time_ns(time)
+        stamp, q, v = self._lookup(target_frame, source_frame, ns)
         return self._message(target_frame, source_frame, stamp, q, v)
 
     def lookup_transform_full_core(self, target_frame: str, target_time: TimeLike,
@@ -530,7 +571,8 @@ class BufferCore:
                     msg += " "
                 msg += f"canTransform: source_frame {source_frame} does not exist."
             return False, msg
-        return self._can_transform_ids(target_id, source_id, self._time_ns(time))
+        ns = time.secs * _NS + time.nsecs if type(time) is Time else self._time_ns(time)
+        return self._can_transform_ids(target_id, source_id, ns)
 
     def can_transform_full_core(self, target_frame: str, target_time: TimeLike,
                                 source_frame: str, source_time: TimeLike,

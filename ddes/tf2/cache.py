@@ -68,14 +68,33 @@ def slerp(q1: tuple[float, float, float, float], q2: tuple[float, float, float, 
 
 def interpolate(one: Storage, two: Storage, time: int) -> Storage:
     """``TimeCache::interpolate``: lerp the translation, slerp the rotation."""
-    if two[0] == one[0]:
+    t0 = one[0]
+    if two[0] == t0:
         return two
-    ratio = to_sec(time - one[0]) / to_sec(two[0] - one[0])
+    # to_sec(time - t0) / to_sec(two[0] - t0), inline (int + float converts as float() does)
+    sec_a, ns_a = divmod(time - t0, _NS)
+    sec_b, ns_b = divmod(two[0] - t0, _NS)
+    ratio = (sec_a + 1e-9 * ns_a) / (sec_b + 1e-9 * ns_b)
     s = 1.0 - ratio
-    q = slerp((one[6], one[7], one[8], one[9]), (two[6], two[7], two[8], two[9]), ratio)
-    return (one[0], one[1], one[2],
+    # slerp(one's rotation, two's, ratio), written out: the same operations as slerp() above
+    x1, y1, z1, w1 = one[6], one[7], one[8], one[9]
+    x2, y2, z2, w2 = two[6], two[7], two[8], two[9]
+    dot = x1 * x2 + y1 * y2 + z1 * z2 + w1 * w2
+    norms = sqrt((x1 * x1 + y1 * y1 + z1 * z1 + w1 * w1) * (x2 * x2 + y2 * y2 + z2 * z2 + w2 * w2))
+    c = (-x1 * x2 + -y1 * y2 + -z1 * z2 + -w1 * w2) / norms if dot < 0 else dot / norms
+    c = -1.0 if c < -1.0 else (1.0 if c > 1.0 else c)
+    theta = (acos(c) * 2.0) / 2.0
+    if theta != 0.0:
+        d = 1.0 / sin(theta)
+        s0 = sin((1.0 - ratio) * theta)
+        s1 = sin(ratio * theta)
+        if dot < 0:
+            x2, y2, z2, w2 = -x2, -y2, -z2, -w2
+        x1, y1, z1, w1 = ((x1 * s0 + x2 * s1) * d, (y1 * s0 + y2 * s1) * d,
+                          (z1 * s0 + z2 * s1) * d, (w1 * s0 + w2 * s1) * d)
+    return (t0, one[1], one[2],
             s * one[3] + ratio * two[3], s * one[4] + ratio * two[4], s * one[5] + ratio * two[5],
-            q[0], q[1], q[2], q[3])
+            x1, y1, z1, w1)
 
 
 class TimeCache:
@@ -135,17 +154,44 @@ class TimeCache:
         return 2, self.entries[i], self.entries[i + 1], ""
 
     def get_data(self, time: int) -> tuple[Storage | None, str]:
-        n, one, two, error = self.find_closest(time)
-        if n == 0:
-            return None, error
-        assert one is not None
-        if n == 1 or two is None:
-            return one, ""
+        """``TimeCache::getData``: :meth:`find_closest`, then the entry or the interpolation
+        (written out here: this is the lookup's inner loop)."""
+        stamps = self.stamps
+        if not stamps:
+            return None, ""
+        entries = self.entries
+        if time == 0:
+            return entries[-1], ""
+        if len(stamps) == 1:
+            if stamps[0] == time:
+                return entries[0], ""
+            return None, _extrapolation_at(time, stamps[0])
+        latest = stamps[-1]
+        if time == latest:
+            return entries[-1], ""
+        earliest = stamps[0]
+        if time == earliest:
+            return entries[0], ""
+        if time > latest:
+            return None, _extrapolation_future(time, latest)
+        if time < earliest:
+            return None, _extrapolation_past(time, earliest)
+        i = bisect_right(stamps, time)
+        one = entries[i - 1]
+        two = entries[i]
         if one[1] == two[1]:
             return interpolate(one, two, time), ""
         return one, ""
 
     def get_parent(self, time: int) -> tuple[int, str]:
+        """``TimeCache::getParent``: the parent of the entry :meth:`find_closest` finds first."""
+        stamps = self.stamps
+        if stamps and (time == 0 or stamps[0] <= time <= stamps[-1]):
+            if time == 0 or time == stamps[-1]:
+                return self.entries[-1][1], ""
+            if time == stamps[0]:
+                return self.entries[0][1], ""
+            return self.entries[bisect_right(stamps, time) - 1][1], ""
         n, one, _two, error = self.find_closest(time)
         if n == 0 or one is None:
             return 0, error
