@@ -237,6 +237,7 @@ def main(argv: list[str] | None = None) -> int:
     for name in [m for m in sys.modules if m.split(".")[0] in ("ctypes", "_ctypes")]:
         del sys.modules[name]
     sys.addaudithook(_audit)
+    _write_all(out, protocol.encode_ready())
 
     def printer(line: str, _err: bool) -> None:
         print(line, file=sys.stderr, flush=True)

@@ -24,6 +24,8 @@ Kinds, child → grader (the reply to one STEP ends with ``DONE``):
 * ``MSG node topic t_ns blob``: a student node published these wire bytes at ``t_ns``.
 * ``GONE node``: a student node has shut down.
 * ``DONE next_ns``: the step is over; the child's next event is at ``next_ns`` (-1: none).
+* ``READY``: sent once, before the first step, when the child has imported ddes and confined
+  itself (the grader gives that phase its own wall budget).
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ __all__ = [
     "MAX_FRAME",
     "MAX_STR",
     "MSG",
+    "READY",
     "STEP",
     "SUB",
     "Adv",
@@ -57,6 +60,7 @@ __all__ = [
     "encode_end",
     "encode_gone",
     "encode_msg",
+    "encode_ready",
     "encode_step",
     "encode_sub",
 ]
@@ -69,8 +73,8 @@ MAX_FRAME = 8 * 1024 * 1024
 MAX_STR = 1024
 
 STEP, END = 1, 2
-ADV, SUB, MSG, GONE, DONE = 10, 11, 12, 13, 14
-_KINDS = {STEP, END, ADV, SUB, MSG, GONE, DONE}
+ADV, SUB, MSG, GONE, DONE, READY = 10, 11, 12, 13, 14, 15
+_KINDS = {STEP, END, ADV, SUB, MSG, GONE, DONE, READY}
 
 _I64 = struct.Struct(">q")
 _I32 = struct.Struct(">i")
@@ -167,6 +171,10 @@ def encode_gone(node: str) -> bytes:
     return _frame(GONE, _s(node))
 
 
+def encode_ready() -> bytes:
+    return _frame(READY, b"")
+
+
 def encode_done(next_ns: int) -> bytes:
     return _frame(DONE, _I64.pack(next_ns))
 
@@ -226,7 +234,8 @@ class _Reader:
 
 
 def decode_frame(kind: int, payload: bytes) -> Frame:
-    """The frame of ``kind`` from its payload (None for END); ProtocolError on any bad field."""
+    """The frame of ``kind`` from its payload (None for END and READY); ProtocolError on any
+    bad field."""
     r = _Reader(payload)
     out: Frame
     if kind == STEP:
@@ -236,7 +245,7 @@ def decode_frame(kind: int, payload: bytes) -> Frame:
         for _ in range(n):
             msgs.append((r.s(), r.s(), r.s(), r.b()))
         out = Step(t, tuple(msgs))
-    elif kind == END:
+    elif kind in (END, READY):
         out = None
     elif kind == ADV:
         node, topic, type_, md5 = r.s(), r.s(), r.s(), r.s()

@@ -20,9 +20,9 @@ on a temporary copy of the submission and talks to it only in the frames of
   packages and the working directory off ``sys.path``;
 * **captured output with a cap**: stdout and stderr of the student go to one file whose size the
   file-size rlimit bounds; the report keeps its last :attr:`Limits.output_keep` bytes;
-* **wall budgets**: a step not answered within :attr:`Limits.step_wall_s`
-  (:attr:`Limits.startup_wall_s` for the first, which imports ddes and starts the scripts) ends
-  the child; the grade goes on without it.
+* **wall budgets**: a child not ready within :attr:`Limits.startup_wall_s` (interpreter,
+  ``import ddes``, confinement), or a step not answered within :attr:`Limits.step_wall_s`, is
+  ended; the grade goes on without it.
 
 The trusted side never imports, unpickles or evaluates anything from the child: a reply is
 decoded by :func:`ddes.grading.protocol.decode_frame` and validated by the caller
@@ -63,7 +63,9 @@ class Limits:
     file_bytes: int = 16 * 1024 * 1024
     open_files: int = 64
     processes: int = 16
+    #: Wall seconds one step may take (the student's code between two exchanges).
     step_wall_s: float = 5.0
+    #: Wall seconds for the child to start: the interpreter, ``import ddes``, the confinement.
     startup_wall_s: float = 30.0
     output_keep: int = 16 * 1024
     #: Most bytes of frames one step may return before it counts as flooding.
@@ -236,15 +238,17 @@ class Sandbox:
         """Send one STEP and read its reply; None (and the child ended) when it fails."""
         if not self.alive:
             return None
-        budget = self.limits.startup_wall_s if self._first else self.limits.step_wall_s
-        self._first = False
-        deadline = time.monotonic() + budget
+        budget = self.limits.step_wall_s
         try:
+            if self._first:
+                self._first = False
+                self._ready(t_ns)
+            deadline = time.monotonic() + budget
             self._send(protocol.encode_step(t_ns, messages), deadline)
             return self._reply(t_ns, deadline)
-        except TimeoutError:
-            self.kill("killed", f"no answer within the {budget:g} s wall budget of a step "
-                                f"(at simulated t={t_ns / 1e9:.3f} s)")
+        except TimeoutError as exc:
+            self.kill("killed", f"{str(exc) or f'no answer within the {budget:g} s wall budget of a step'}"
+                                f" (at simulated t={t_ns / 1e9:.3f} s)")
         except EOFError:
             self._ended(t_ns)
         except ProtocolError as exc:
@@ -252,6 +256,17 @@ class Sandbox:
         except OSError as exc:  # a broken pipe: it has gone
             self._ended(t_ns, str(exc))
         return None
+
+    def _ready(self, t_ns: int) -> None:
+        """Wait for READY: the child has imported ddes and confined itself."""
+        budget = self.limits.startup_wall_s
+        try:
+            kind, length = protocol.decode_header(
+                self._read(protocol.HEADER.size, time.monotonic() + budget))
+        except TimeoutError:
+            raise TimeoutError(f"not ready within the {budget:g} s start-up budget") from None
+        if kind != protocol.READY or length:
+            raise ProtocolError("the child's first frame is not READY")
 
     def _send(self, data: bytes, deadline: float) -> None:
         assert self._proc is not None and self._proc.stdin is not None

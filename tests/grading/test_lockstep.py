@@ -130,7 +130,7 @@ def test_what_the_sandbox_enforces(tmp_path: Path, monkeypatch: pytest.MonkeyPat
 def test_a_hung_child_is_ended_by_the_step_budget_and_the_world_goes_on(tmp_path: Path) -> None:
     (tmp_path / "hang.py").write_text("import rospy\nrospy.init_node('hang')\nwhile True:\n    pass\n")
     world = World(0, wall_budget=None)
-    box = Sandbox(tmp_path, [("hang.py", [])], limits=Limits(startup_wall_s=3.0))
+    box = Sandbox(tmp_path, [("hang.py", [])], limits=Limits(step_wall_s=1.0))
     outcome = Lockstep(world, box).run(1_000_000_000)
     assert outcome.state == "killed" and "wall budget" in outcome.reason
     assert world.now == 1_000_000_000
