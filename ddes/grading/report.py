@@ -129,7 +129,7 @@ class GradeReport:
     def to_junit(self) -> str:
         failures = sum(1 for c in self.criteria if not c.passed)
         suite = ET.Element("testsuite", {
-            "name": f"ddes.{self.exercise}", "tests": str(len(self.criteria)),
+            "name": _xml_safe(f"ddes.{self.exercise}"), "tests": str(len(self.criteria)),
             "failures": str(failures), "errors": "0", "skipped": "0",
             "time": f"{self.execution_time:.3f}"})
         props = ET.SubElement(suite, "properties")
@@ -137,8 +137,9 @@ class GradeReport:
                             ("seed", str(self.seed)), ("public", str(self.public).lower())):
             ET.SubElement(props, "property", {"name": name, "value": value})
         for c in self.criteria:
-            case = ET.SubElement(suite, "testcase", {"classname": f"{self.exercise}",
-                                                     "name": f"{c.id} {c.name}", "time": "0"})
+            case = ET.SubElement(suite, "testcase", {"classname": _xml_safe(self.exercise),
+                                                     "name": _xml_safe(f"{c.id} {c.name}"),
+                                                     "time": "0"})
             cprops = ET.SubElement(case, "properties")
             ET.SubElement(cprops, "property", {"name": "points", "value": f"{c.points:g}"})
             ET.SubElement(cprops, "property", {"name": "max_points", "value": f"{c.max_points:g}"})
