@@ -51,10 +51,13 @@ if TYPE_CHECKING:
     from ddes.graph.node import Node
     from ddes.graph.world import World
 
-__all__ = ["MAX_ROUNDS", "Lockstep"]
+__all__ = ["MAX_ENDPOINTS", "MAX_NODES", "MAX_ROUNDS", "Lockstep"]
 
 #: Delta rounds at one instant before the exchange counts as a livelock.
 MAX_ROUNDS = 1000
+#: Most student nodes, and publishers plus subscribers, the grader mirrors (more are refused).
+MAX_NODES = 64
+MAX_ENDPOINTS = 1024
 _INF = float("inf")
 
 
@@ -141,7 +144,7 @@ class Lockstep:
             self._refuse(t, f"{what}: unknown message type {type_[:80]!r}")
             return None
         if cls._md5sum != md5:
-            self._refuse(t, f"{what}: md5 {md5[:40]!r} of {type_} differs from the grader's "
+            self._refuse(t, f"{what}: md5 {md5[:40]!r} of {type_[:80]} differs from the grader's "
                             f"{cls._md5sum}")
             return None
         return cls
@@ -152,6 +155,9 @@ class Lockstep:
             return None if node.is_shutdown() else node
         if not _global_name(name) or name.startswith("/ddes_grading"):
             self._refuse(t, f"illegal node name {name[:80]!r}")
+            return None
+        if len(self.proxies) >= MAX_NODES:
+            self._refuse(t, f"node {name[:80]}: more than {MAX_NODES} student nodes")
             return None
         if self.world.lookup_node(name) is not None:
             self._refuse(t, f"node name {name} is taken by the grader's world: refused")
@@ -182,6 +188,10 @@ class Lockstep:
         key = (fr.node, fr.topic)
         if key in self._pubs:
             return
+        if len(self._pubs) + len(self._subs) >= MAX_ENDPOINTS:
+            self._refuse(t, f"{fr.node[:80]} advertising {fr.topic[:80]}: more than "
+                            f"{MAX_ENDPOINTS} publishers and subscribers")
+            return
         cls = self._class(fr.type, fr.md5, t, f"{fr.node} advertising {fr.topic}")
         node = self._proxy(fr.node, t) if cls is not None else None
         if node is None:
@@ -197,6 +207,10 @@ class Lockstep:
             return
         key = (fr.node, fr.topic)
         if key in self._subs:
+            return
+        if len(self._pubs) + len(self._subs) >= MAX_ENDPOINTS:
+            self._refuse(t, f"{fr.node[:80]} subscribing {fr.topic[:80]}: more than "
+                            f"{MAX_ENDPOINTS} publishers and subscribers")
             return
         cls = self._class(fr.type, fr.md5, t, f"{fr.node} subscribing {fr.topic}")
         node = self._proxy(fr.node, t) if cls is not None else None

@@ -8,9 +8,11 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ddes.compat.scripts import run_script
-from ddes.grading import Limits, Lockstep, Sandbox
+from ddes.grading import Limits, Lockstep, Sandbox, protocol
 from ddes.graph.world import World
 
 SOLUTION = Path(__file__).resolve().parent / "fixtures" / "ex0_solution"
@@ -177,3 +179,36 @@ def test_the_child_runs_as_another_user_or_says_why() -> None:
             assert "nobody" in text or "NOT a separate user" in text
     finally:
         box.close()
+
+
+def test_a_run_is_deterministic() -> None:
+    digests = []
+    for _ in range(2):
+        world, _got = listener_world()
+        Lockstep(world, Sandbox(SOLUTION, [("talker.py", [])])).run(1_000_000_000)
+        digests.append(world.digest())
+    assert digests[0] == digests[1]
+
+
+texts = st.text(alphabet=st.sampled_from("/abc_~. 0\x00é"), max_size=12)
+frames = st.one_of(
+    st.builds(protocol.Adv, texts, texts, st.sampled_from(["std_msgs/String", "x/Y", "", "../a"]),
+              st.sampled_from([String_md5 := "992ce8a1687cec8c8bd883ec73ca41d1", "0" * 32]),
+              st.booleans()),
+    st.builds(protocol.Sub, texts, texts, st.sampled_from(["std_msgs/String", "nope/Nope"]),
+              st.sampled_from([String_md5, ""]), st.integers(-5, 5)),
+    st.builds(protocol.Msg, texts, texts, st.integers(-1, 2), st.binary(max_size=12)),
+    st.builds(protocol.Gone, texts),
+)
+
+
+@settings(max_examples=200)
+@given(st.lists(frames, max_size=12))
+def test_any_frames_from_the_child_are_validated_never_raised(fs: list[object]) -> None:
+    world = World(0, wall_budget=None)
+    world.create_node("/grader")
+    lock = Lockstep(world, Sandbox.__new__(Sandbox))
+    lock._apply(fs, 0)
+    world.run(until=0.01)
+    for name, node in lock.proxies.items():
+        assert name.startswith("/") and name != "/grader" and node.name == name
