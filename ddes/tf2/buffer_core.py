@@ -176,6 +176,15 @@ def _compose(q2: Quat, v2: Vec, q1: Quat, v1: Vec) -> tuple[Quat, Vec]:
     return _get_rotation(prod), origin  # type: ignore[arg-type,return-value]
 
 
+def _raise(code: int, text: str) -> None:
+    """Raise the exception of a tf2_msgs/TF2Error code, as tf2's lookups do."""
+    if code == CONNECTIVITY_ERROR:
+        raise ConnectivityException(text)
+    if code == EXTRAPOLATION_ERROR:
+        raise ExtrapolationException(text)
+    raise LookupException(text)
+
+
 def _stamp_ns(stamp: Any) -> int:
     if isinstance(stamp, Time):
         return stamp.secs * 1_000_000_000 + stamp.nsecs
@@ -465,6 +474,98 @@ class BufferCore:
         return NO_ERROR, "", time, _qmul(inv_q, src_q), \
             (rv[0] + inv_v[0], rv[1] + inv_v[1], rv[2] + inv_v[2])
 
+    def _walk_chain(self, target_id: int, source_id: int, time: int) -> list[int]:
+        """``walkToTopParent`` with a ``frame_chain``: the frame ids walked (tf2 0.7's pruning
+        and ordering, its oddities included); raises tf2's exceptions."""
+        if source_id == target_id:
+            return []
+        if time == 0:
+            code, time, text = self._latest_common_time(target_id, source_id)
+            if code != NO_ERROR:
+                _raise(code, text)
+        frames = self._frames
+        chain: list[int] = []
+        frame = source_id
+        top_parent = frame
+        depth = 0
+        extrapolation_text = ""
+        extrapolation_might_have_occurred = False
+        while frame != 0:
+            cache = frames[frame]
+            chain.append(frame)
+            if cache is None:
+                top_parent = frame
+                break
+            st, err = cache.get_data(time)
+            parent = st[1] if st is not None else 0
+            if parent == 0:
+                top_parent = frame
+                extrapolation_text = err
+                extrapolation_might_have_occurred = True
+                break
+            if frame == target_id:
+                return chain
+            top_parent = frame
+            frame = parent
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                _raise(LOOKUP_ERROR, self._loop_text())
+        frame = target_id
+        depth = 0
+        reverse: list[int] = []
+        while frame != top_parent:
+            cache = frames[frame]
+            reverse.append(frame)
+            if cache is None:
+                break
+            st, err = cache.get_data(time)
+            parent = st[1] if st is not None else 0
+            if parent == 0:
+                _raise(EXTRAPOLATION_ERROR,
+                       f"{err}, when looking up transform from frame [{self._names[source_id]}]"
+                       f" to frame [{self._names[target_id]}]")
+            if frame == source_id:
+                reverse.reverse()  # tf2: "the reverse walk", returned reversed
+                return reverse
+            frame = parent
+            depth += 1
+            if depth > MAX_GRAPH_DEPTH:
+                _raise(LOOKUP_ERROR, self._loop_text())
+        if frame != top_parent:
+            if extrapolation_might_have_occurred:
+                _raise(EXTRAPOLATION_ERROR,
+                       f"{extrapolation_text}, when looking up transform from frame "
+                       f"[{self._names[source_id]}] to frame [{self._names[target_id]}]")
+            _raise(CONNECTIVITY_ERROR, self._connectivity_text(source_id, target_id))
+        reverse.append(frame)
+        # pruning: compare the chains from the parent end until they differ
+        m = len(reverse) - 1
+        n = len(chain) - 1
+        while m >= 0 and n >= 0:
+            if chain[n] != reverse[m]:
+                break
+            m -= 1
+            n -= 1
+        if n > 0:
+            del chain[n + 2:]  # tf2: "N is offset by 1 and leave the common parent"
+        for i in range(m, -1, -1):
+            chain.append(reverse[i])
+        return chain
+
+    def _chain(self, target_frame: str, target_time: TimeLike, source_frame: str,
+               source_time: TimeLike, fixed_frame: str) -> list[str]:
+        """tf2_py's ``_chain`` (``BufferCore::_chainAsVector``): the frames walked from
+        ``source_frame`` (at ``source_time``) through ``fixed_frame`` to ``target_frame`` (at
+        ``target_time``), as tf2 0.7.6 lists them; tf2's exceptions when a walk fails."""
+        source_id = self._ids.get(source_frame, 0)
+        fixed_id = self._ids.get(fixed_frame, 0)
+        target_id = self._ids.get(target_frame, 0)
+        source_chain = self._walk_chain(fixed_id, source_id, self._time_ns(source_time))
+        target_chain = self._walk_chain(target_id, fixed_id, self._time_ns(target_time))
+        if source_chain and target_chain and source_chain[-1] == target_chain[0]:
+            source_chain.pop()
+        return [self._names[f] for f in source_chain + target_chain]
+
     # -- lookups --------------------------------------------------------------------------
     @staticmethod
     def _time_ns(time: TimeLike) -> int:
@@ -657,6 +758,50 @@ class BufferCore:
             if now > 0:
                 out.append(f"  transform_delay: {now - to_sec(latest):.3f}\n")
             out.append(f"  buffer_length: {to_sec(latest - oldest):.3f}\n")
+        return "".join(out)
+
+    def _allFramesAsDot(self, time: TimeLike | None = None) -> str:  # noqa: N802 - tf2_py's
+        """tf2's ``allFramesAsDot``: the tree as graphviz dot text, one edge per frame with its
+        broadcaster, average rate, latest stamp and buffer length; with ``time`` (tf2_py's
+        ``time`` argument, seconds > 0) each edge says how old its transform is and every root
+        gets tf2's "view_frames Result" legend."""
+        current = 0.0 if time is None else to_sec(self._time_ns(time))
+        out = ["digraph G {\n"]
+        frames = self._frames
+        names = self._names
+        if len(frames) == 1:
+            out.append('"no tf data recieved"')  # sic
+        for fid in range(1, len(frames)):
+            cache = frames[fid]
+            if cache is None:
+                continue
+            st, _ = cache.get_data(0)
+            if st is None:
+                continue
+            authority = self._authority.get(fid, "no recorded authority")
+            latest = to_sec(cache.latest_timestamp())
+            oldest = to_sec(cache.oldest_timestamp())
+            rate = cache.list_length() / max(latest - oldest, 0.0001)
+            out.append(f'"{names[st[1]]}" -> "{names[fid]}"[label="Broadcaster: {authority}\\n'
+                       f"Average rate: {rate:.3f} Hz\\nMost recent transform: {latest:.3f} ")
+            if current > 0:
+                out.append(f"( {current - latest:.3f} sec old)")
+            buffer_length = to_sec(cache.latest_timestamp() - cache.oldest_timestamp())
+            out.append(f'\\nBuffer length: {buffer_length:.3f} sec\\n"];\n')
+        legend = (' subgraph cluster_legend { style=bold; color=black; label ="view_frames '
+                  'Result";\n')
+        recorded = f'"Recorded at time: {current:.3f}"[ shape=plaintext ] ;\n ' \
+            if current > 0 else ""
+        for fid in range(1, len(frames)):
+            cache = frames[fid]
+            if cache is None:
+                if current > 0:
+                    out.append(f'edge [style=invis];\n{legend}{recorded}}}->"{names[fid]}";\n')
+                continue
+            st, _ = cache.get_data(0)
+            if st is None or st[1] == 0:
+                out.append(f'edge [style=invis];\n{legend}{recorded}}}->"{names[fid]}";\n')
+        out.append("}")
         return "".join(out)
 
     def _frameExists(self, frame_id: str) -> bool:  # noqa: N802 - tf2_py's name
