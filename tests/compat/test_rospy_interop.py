@@ -76,12 +76,37 @@ print(json.dumps({"server": stop(server), "client": client.stdout.splitlines(),
 '''
 
 CHATTER = r'''
+import threading
+
+def follow(p):
+    """Read p's output as it comes (the shared CI machine may start a process slowly)."""
+    lines = []
+    def read(stream, into):
+        for line in stream:
+            into.append(line.rstrip("\n"))
+    p.readers = [threading.Thread(target=read, args=(stream, into), daemon=True)
+                 for stream, into in ((p.stdout, lines), (p.stderr, []))]
+    for reader in p.readers:
+        reader.start()
+    return lines
+
+def stop_followed(p, lines):
+    p.send_signal(signal.SIGINT)
+    p.wait(timeout=30)
+    for reader in p.readers:  # each ends at its stream's end
+        reader.join(timeout=30)
+    return list(lines)
+
 listener = start_process([sys.executable, "-u", SCRIPTS + "/listener.py"])
+heard = follow(listener)
 time.sleep(1.0)
 talker = start_process([sys.executable, "-u", SCRIPTS + "/talker.py"])
-time.sleep(2.0)
-t = stop(talker)
-print(json.dumps({"talker": t, "listener": stop(listener)}))
+said = follow(talker)
+deadline = time.monotonic() + 60
+while sum("I heard" in line for line in heard) < 6 and time.monotonic() < deadline:
+    time.sleep(0.1)
+t = stop_followed(talker, said)
+print(json.dumps({"talker": t, "listener": stop_followed(listener, heard)}))
 '''
 
 
