@@ -43,7 +43,7 @@ __all__ = [
 #: Gradescope's visibility values.
 VISIBILITIES = ("visible", "hidden", "after_due_date", "after_published")
 #: Modules that register the course's exercises when the registry is first read.
-BUILTIN_MODULES: tuple[str, ...] = ()
+BUILTIN_MODULES: tuple[str, ...] = ("ddes.grading.exercises",)
 
 
 @dataclass(frozen=True)
@@ -159,6 +159,13 @@ class Exercise:
 
     def required(self) -> list[str]:
         return list(dict.fromkeys([*self.required_files, *(p for p, _ in self.scripts)]))
+
+    def student_scripts(self, world: World, scenario: Scenario,
+                        submission: Path) -> list[tuple[str, list[str]]]:
+        """The scripts the child runs in ``scenario`` (after :attr:`build`): :attr:`scripts`
+        that the submission holds.  Exercises driven by the student's launch file override it
+        (:class:`ddes.grading.course.CourseExercise`)."""
+        return [(p, list(a)) for p, a in self.scripts if (submission / p).is_file()]
 
 
 class ExerciseRegistry:

@@ -85,7 +85,7 @@ def _run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
     exercise.build(world, scenario)
     until = to_ns(exercise.duration, "duration")
     if prepared is not None:
-        scripts = [(p, a) for p, a in exercise.scripts if (prepared / p).is_file()]
+        scripts = exercise.student_scripts(world, scenario, prepared)
         sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits)
         lock = Lockstep(world, sandbox)
         outcome = lock.run(until)

@@ -18,7 +18,11 @@ recorded (once per contact: pressing on or sliding along records nothing more un
 Noise (off with ``noise=False``): each sensor draws from its own stream of the world's seed,
 ``world.rng_for("sim/<node>/<sensor>")`` (``odom``, ``imu``, ``scan``), so adding a sensor
 never shifts another's draws; a Gaussian is the Irwin-Hall sum of 12 ``random()`` calls, which
-uses only exact operations.
+uses only exact operations (:mod:`ddes.sim.noise`).
+
+The collision warning's file, function and line (``_collide``'s ``logwarn``) go to ``/rosout``
+and so into the trace digest: an edit above it that moves it by a line changes the golden
+digest of ``tests/sim/test_determinism.py`` (keep the line count above it, or re-record).
 """
 
 from __future__ import annotations
@@ -40,6 +44,8 @@ from ddes.sim.geometry import (
     prepare,
     wrap_angle,
 )
+from ddes.sim.noise import gauss as _gauss
+from ddes.sim.noise import scan_ranges
 from ddes.sim.worlds import Obstacle, WorldSpec
 from ddes.time import Time
 
@@ -134,12 +140,6 @@ _LIMITS = RobotLimits()
 _FOOTPRINT = Footprint()
 
 
-def _gauss(rng: random.Random, sigma: float) -> float:
-    r = rng.random
-    s = (r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r())
-    return sigma * (s - 6.0)
-
-
 def _clamp(x: float, lo: float, hi: float) -> float:
     return lo if x < lo else (hi if x > hi else x)
 
@@ -200,9 +200,9 @@ class Simulator:
         self._hist = History([], [], [], [], [], [])
         node = self.node
         name_ = node.name
-        self._rng_odom = world.rng_for(f"sim{name_}/odom")
-        self._rng_imu = world.rng_for(f"sim{name_}/imu")
-        self._rng_scan = world.rng_for(f"sim{name_}/scan")
+        self._rng_odom: random.Random = world.rng_for(f"sim{name_}/odom")
+        self._rng_imu: random.Random = world.rng_for(f"sim{name_}/imu")
+        self._rng_scan: random.Random = world.rng_for(f"sim{name_}/scan")
         self._paused = bool(paused)
         self._closed = False
         self._cmd = (0.0, 0.0)
@@ -648,12 +648,7 @@ class Simulator:
     def _publish_scan(self, stamp: Time) -> None:
         ox, oy, yaw = self.laser_origin()
         raw = self._laser.cast(self._prepared, ox, oy, yaw)
-        if self.noise:
-            r = self._rng_scan.random  # _gauss(rng, 0.01) per finite beam, inlined
-            out = [_limit(t + 0.01 * ((r() + r() + r() + r() + r() + r() + r() + r() + r() + r()
-                                       + r() + r()) - 6.0)) if t != _INF else t for t in raw]
-        else:
-            out = [_limit(t) for t in raw]
+        out = scan_ranges(raw, self._rng_scan if self.noise else None)
         m = self._scan_m
         m.header.stamp = stamp
         m.ranges = out
