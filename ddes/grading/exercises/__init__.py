@@ -1,0 +1,11 @@
+"""The course's exercises (after ETH Zurich, Programming for Robotics, exercises 1-3), registered
+in :data:`ddes.grading.exercise.REGISTRY` on import.  Reference solutions and starters live in
+``solutions/<id>/`` and ``exercises/<id>/`` of the repository."""
+
+from ddes.grading.exercise import REGISTRY
+from ddes.grading.exercises.ex2_package import EX2
+
+for _ex in (EX2,):
+    REGISTRY.register(_ex)
+
+__all__ = ["EX2"]
