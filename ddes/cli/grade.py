@@ -4,7 +4,9 @@
 * ``ddes grade EXERCISE SUBMISSION [--results FILE] [--junit FILE] [--out DIR] [--seed N]
   [--public] [--fail-under PCT]``: grade one folder, ``.zip`` or notebook; prints the report;
 * ``ddes grade batch EXERCISE DIR --out OUT``: grade every submission in ``DIR`` one after the
-  other (``OUT/<submission>/results.json`` and ``OUT/summary.csv``).
+  other (``OUT/<submission>/results.json`` and ``OUT/summary.csv``);
+* ``replay``, ``sweep``, ``sensitivity`` and the hidden-scenario key (``--secret-file``,
+  ``--student``, ``--attempt``): ddes/cli/grade_tools.py.
 
 ``--exercises FILE`` (repeatable) loads an instructor's exercise file first.  Exit status: 0
 when grading completed, whatever the score; 1 under ``--fail-under`` when the score is below it;
@@ -20,12 +22,15 @@ import re
 import sys
 from pathlib import Path
 
+from ddes.cli.grade_tools import TOOLS, add_arguments, hidden_key
 from ddes.errors import GradingError
 
 __all__ = ["register", "run_grade"]
 
 _USAGE = ("ddes grade list | ddes grade EXERCISE SUBMISSION [options] | "
-          "ddes grade batch EXERCISE DIR --out OUT")
+          "ddes grade batch EXERCISE DIR --out OUT | "
+          "ddes grade replay EXERCISE SUBMISSION --scenario NAME | "
+          "ddes grade sweep EXERCISE SUBMISSION --seeds A:B | ddes grade sensitivity EXERCISE")
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -33,7 +38,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                        usage=_USAGE, description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("words", nargs="+", metavar="ARG",
-                   help="list | EXERCISE SUBMISSION | batch EXERCISE DIR")
+                   help="list | EXERCISE SUBMISSION | batch EXERCISE DIR | replay EXERCISE "
+                        "SUBMISSION | sweep EXERCISE SUBMISSION | sensitivity EXERCISE")
     p.add_argument("--results", metavar="FILE", help="write Gradescope's results.json here")
     p.add_argument("--junit", metavar="FILE", help="write JUnit XML here")
     p.add_argument("--out", metavar="DIR",
@@ -49,6 +55,7 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="wall budget of one step of the student's process (default 5 s)")
     p.add_argument("--mem", default=None, metavar="SIZE",
                    help="address-space limit of the student's process (e.g. 512M; default 768M)")
+    add_arguments(p)
     p.set_defaults(func=run_grade)
 
 
@@ -87,16 +94,21 @@ def _run(args: argparse.Namespace) -> int:
         check_limits(limits)
     if words == ["list"]:
         return _list()
+    if words[0] in TOOLS:
+        return TOOLS[words[0]](REGISTRY, words[1:], args, limits)
     if words[0] == "batch":
         if len(words) != 3 or not args.out:
             raise GradingError(f"usage: ddes grade batch EXERCISE DIR --out OUT (got {words[1:]})")
+        if args.student is not None:
+            raise GradingError("batch: the student of each submission is its name; leave out "
+                               "--student")
         return _batch(REGISTRY.get(words[1]), Path(words[2]), Path(args.out), args, limits)
     if len(words) != 2:
         raise GradingError(f"usage: {_USAGE}")
     from ddes.grading.grader import grade
 
     report = grade(REGISTRY.get(words[0]), words[1], seed=args.seed, public=args.public,
-                   limits=limits)
+                   limits=limits, key=hidden_key(args, words[1]))
     sys.stdout.write(report.to_text())
     if args.results:
         report.write_results(args.results)
@@ -159,7 +171,8 @@ def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
             name += "_"
         used.add(name)
         try:
-            report = grade(exercise, entry, seed=args.seed, public=args.public, limits=limits)
+            report = grade(exercise, entry, seed=args.seed, public=args.public, limits=limits,
+                           key=hidden_key(args, entry))
         except Exception as exc:  # noqa: BLE001 - one broken grade never ends the batch
             rows.append([entry.name, "", f"{exercise.max_points:g}", "",
                          *[""] * len(ids), f"grader infrastructure error: {exc}"])

@@ -14,6 +14,7 @@ loaded with :meth:`ExerciseRegistry.load_file` or ``ddes grade --exercises FILE`
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import importlib.util
 import math
@@ -147,6 +148,8 @@ class Exercise:
     scenarios: Callable[[int, bool], list[Scenario]] = _one_public
     #: Files the submission must hold (the scripts are added).
     required_files: tuple[str, ...] = ()
+    #: The instructor's file it was loaded from (``load_file``), so replay commands name it.
+    origin: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
         ids = [c.id for c in self.criteria]
@@ -213,9 +216,10 @@ class ExerciseRegistry:
         found = getattr(module, "EXERCISES", None)
         if not isinstance(found, (list, tuple)) or not all(isinstance(e, Exercise) for e in found):
             raise GradingError(f"{path} must define EXERCISES = [Exercise(...), ...]")
-        for ex in found:
+        loaded = [dataclasses.replace(ex, origin=str(path)) for ex in found]
+        for ex in loaded:
             self.register(ex)
-        return list(found)
+        return loaded
 
 
 #: The registry ``ddes grade`` reads.

@@ -21,29 +21,38 @@ from ddes.grading.bridge import Lockstep
 from ddes.grading.exercise import Exercise, Facts, Scenario
 from ddes.grading.report import CriterionReport, GradeReport, finite_points
 from ddes.grading.sandbox import Limits, Sandbox, SandboxOutcome
+from ddes.grading.scenarios import HiddenKey, select_scenarios
 from ddes.grading.submission import prepare
 from ddes.graph.world import World
 from ddes.time.units import to_ns
 
-__all__ = ["grade", "replay_command"]
+__all__ = ["grade", "replay_command", "run_scenario", "score_scenario"]
 
 
-def replay_command(exercise: Exercise, submission: str, seed: int, public: bool) -> str:
-    words = ["ddes", "grade", exercise.id, submission, "--seed", str(seed)]
-    if public:
-        words.append("--public")
+def replay_command(exercise: Exercise, submission: str, scenario: Scenario, seed: int,
+                   key: HiddenKey | None = None) -> str:
+    """``ddes grade replay EX SUBMISSION --scenario NAME --seed N`` (with ``--student`` and
+    ``--attempt`` for a hidden scenario of a keyed grade, whose secret the replay reads from
+    ``--secret-file`` or ``$DDES_GRADE_SECRET``; with ``--exercises FILE`` for an exercise
+    loaded from a file)."""
+    words = ["ddes", "grade", "replay", exercise.id, submission, "--scenario", scenario.name,
+             "--seed", str(seed)]
+    if scenario.hidden and key is not None:
+        words += ["--student", key.student, "--attempt", str(key.attempt)]
+    if exercise.origin:
+        words += ["--exercises", exercise.origin]
     return shlex.join(words)
 
 
 def grade(exercise: Exercise, submission: str | Path, *, seed: int = 0, public: bool = False,
-          limits: Limits | None = None) -> GradeReport:
+          limits: Limits | None = None, key: HiddenKey | None = None) -> GradeReport:
     """Grade ``submission`` (a folder, .zip or .ipynb) for ``exercise``; never raises for a bad
-    submission or a misbehaving student process."""
+    submission or a misbehaving student process.  ``key`` derives the hidden scenarios from the
+    course secret (ddes.grading.scenarios)."""
     start = time.perf_counter()
     shown = str(submission)
     report = GradeReport(exercise=exercise.id, title=exercise.title, submission=shown, seed=seed,
                          public=public, ddes_version=ddes.__version__)
-    replay = replay_command(exercise, shown, seed, public)
     scores: dict[str, list[float]] = {c.id: [] for c in exercise.criteria}
     evidence: dict[str, list[str]] = {c.id: [] for c in exercise.criteria}
     tmp = Path(tempfile.mkdtemp(prefix="ddes-submission-"))
@@ -60,26 +69,41 @@ def grade(exercise: Exercise, submission: str | Path, *, seed: int = 0, public: 
         if missing:
             report.problems.append(f"missing file(s): {', '.join(missing)} — costs the criteria "
                                    "that need them")
-        scenarios = exercise.scenarios(seed, public)
-        if public:
-            scenarios = [s for s in scenarios if not s.hidden]
-        for scenario in scenarios:
-            _run_scenario(exercise, scenario, prepared, limits, report, scores, evidence)
+        first_failure: dict[str, Scenario] = {}
+        for scenario in select_scenarios(exercise, seed, public, key):
+            world, facts = run_scenario(exercise, scenario, prepared, limits)
+            _note_problems(report, facts)
+            report.digests[scenario.name] = _digest(world)
+            for cid, earned, lines in score_scenario(exercise, facts):
+                scores[cid].append(earned)
+                if lines:
+                    evidence[cid] += lines
+                    first_failure.setdefault(cid, scenario)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     for c in exercise.criteria:
         got = scores[c.id]
         points = sum(got) / len(got) if got else 0.0
+        failed = first_failure.get(c.id)
         report.criteria.append(CriterionReport(
             id=c.id, name=c.name, points=float(round(points, 4)), max_points=float(c.max_points),
-            visibility=c.visibility, evidence=evidence[c.id], replay=replay))
+            visibility=c.visibility, evidence=evidence[c.id],
+            replay="" if failed is None else replay_command(exercise, shown, failed, seed, key)))
     report.execution_time = time.perf_counter() - start
     return report
 
 
-def _run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
-                  limits: Limits | None, report: GradeReport, scores: dict[str, list[float]],
-                  evidence: dict[str, list[str]]) -> None:
+def _digest(world: World) -> str:
+    try:
+        return world.digest()
+    except Exception:  # noqa: BLE001 - an exercise that filters its trace has no digest
+        return ""
+
+
+def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
+                 limits: Limits | None) -> tuple[World, Facts]:
+    """Build the trusted world of ``scenario``, run the prepared submission (None: it could not
+    be read) in lockstep with it, and return the world and the facts of the run."""
     world = World(scenario.seed, wall_budget=None)
     world.log_output = None
     exercise.build(world, scenario)
@@ -91,20 +115,33 @@ def _run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         outcome = lock.run(until)
         refused = lock.problems
         nodes = list(lock.proxies)
-        report.enforced = list(outcome.enforced)
     else:
         world.run(until=until / 1e9)
         outcome = SandboxOutcome(state="not started", reason="the submission could not be read")
         refused, nodes = [], []
-    if outcome.state in ("killed", "exited"):
-        report.problems.append(f"{scenario.name}: {outcome.reason}")
-    if refused:
-        report.problems.append(f"{scenario.name}: the grader refused {len(refused)} item(s) from "
-                               f"the student's process, first at t={refused[0][0] / 1e9:.3f} s: "
-                               f"{refused[0][1]}")
     facts = Facts(exercise=exercise, scenario=scenario, world=world, outcome=outcome,
                   refused=refused, submission=prepared if prepared is not None else Path("/nonexistent"),
                   student_nodes=nodes)
+    return world, facts
+
+
+def _note_problems(report: GradeReport, facts: Facts) -> None:
+    outcome, refused, name = facts.outcome, facts.refused, facts.scenario.name
+    if outcome.enforced:
+        report.enforced = list(outcome.enforced)
+    if outcome.state in ("killed", "exited"):
+        report.problems.append(f"{name}: {outcome.reason}")
+    if refused:
+        report.problems.append(f"{name}: the grader refused {len(refused)} item(s) from "
+                               f"the student's process, first at t={refused[0][0] / 1e9:.3f} s: "
+                               f"{refused[0][1]}")
+
+
+def score_scenario(exercise: Exercise, facts: Facts) -> list[tuple[str, float, list[str]]]:
+    """``(criterion id, points, evidence lines)`` of every criterion on one scenario's facts;
+    the evidence is empty when the criterion earned its maximum."""
+    scenario = facts.scenario
+    out = []
     for c in exercise.criteria:
         try:
             points, lines = c.check(facts)
@@ -112,7 +149,9 @@ def _run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
             lines = [str(x)[:500] for x in list(lines)[:20]]
         except Exception as exc:  # noqa: BLE001 - a check that fails earns nothing and says why
             got, lines = 0.0, [f"the check could not be computed: {type(exc).__name__}: {exc}"]
-        scores[c.id].append(got)
+        shown: list[str] = []
         if got < c.max_points:
             tag = f"{scenario.name} (seed {scenario.seed})" if not scenario.hidden else scenario.name
-            evidence[c.id] += [f"{tag}: {line}" for line in lines] or [f"{tag}: failed"]
+            shown = [f"{tag}: {line}" for line in lines] or [f"{tag}: failed"]
+        out.append((c.id, got, shown))
+    return out

@@ -65,6 +65,9 @@ class GradeReport:
     execution_time: float = 0.0
     submission_sha256: str = ""
     ddes_version: str = ""
+    #: The trace digest of each scenario's trusted world, by scenario name (what
+    #: ``ddes grade replay`` reproduces).
+    digests: dict[str, str] = field(default_factory=dict)
 
     @property
     def score(self) -> float:
@@ -118,7 +121,7 @@ class GradeReport:
             "extra_data": {"ddes_version": self.ddes_version, "exercise": self.exercise,
                            "seed": self.seed, "public": self.public,
                            "submission_sha256": self.submission_sha256,
-                           "enforced": list(self.enforced)},
+                           "enforced": list(self.enforced), "digests": dict(self.digests)},
             "tests": tests,
         }
 

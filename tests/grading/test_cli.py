@@ -83,7 +83,7 @@ def test_a_crashing_submission_costs_only_its_criteria(tmp_path: Path,
     assert "0.1 publishes on /chatter ......" in out and " 2/2" in out
     assert "10 Hz within 5 % ....................................... 4/4" in out
     assert "'hello' is not 'hello world N'" in out
-    assert "replay: ddes grade ex0_talker" in out
+    assert "replay: ddes grade replay ex0_talker" in out
 
 
 @pytest.mark.parametrize("words, text", [
