@@ -17,7 +17,7 @@ def test_snippets_run_in_order_and_print_what_the_doc_shows(
         capsys: pytest.CaptureFixture[str]) -> None:
     text = DOC.read_text()
     blocks = python_blocks(text)
-    assert len(blocks) == 3
+    assert len(blocks) == 6
     shown = re.findall(r"```python\n.*?```\n\n(?:prints `([^`]*)`|```text\n(.*?)```|prints\n\n"
                        r"```text\n(.*?)```)", text, flags=re.S)
     scope: dict[str, object] = {}
