@@ -144,6 +144,7 @@ class LaserGeometry:
                 fx = ccx - ox
                 fy = ccy - oy
                 k = fx * fx + fy * fy - r2
+                sqrt = math.sqrt
                 for i in beams:
                     sa, ca = dirs[i]
                     dx = cy * ca - sy * sa
@@ -152,7 +153,7 @@ class LaserGeometry:
                     disc = b * b - k
                     if disc < 0.0:
                         continue
-                    sq = math.sqrt(disc)
+                    sq = sqrt(disc)
                     t = b - sq
                     if t < 0.0:
                         t = b + sq

@@ -589,13 +589,18 @@ class Simulator:
         az = _G
         yaw = self._yaw
         gz = w
-        if self.noise:
-            rng = self._rng_imu
-            yaw += _gauss(rng, 0.002)
-            gz += self._gyro_bias + _gauss(rng, 0.005)
-            ax += _gauss(rng, 0.05)
-            ay += _gauss(rng, 0.05)
-            az += _gauss(rng, 0.05)
+        if self.noise:  # five _gauss(rng, sigma) draws, inlined in the same order
+            r = self._rng_imu.random
+            yaw += 0.002 * ((r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r()
+                             + r()) - 6.0)
+            gz += self._gyro_bias + 0.005 * ((r() + r() + r() + r() + r() + r() + r() + r() + r()
+                                              + r() + r() + r()) - 6.0)
+            ax += 0.05 * ((r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r())
+                          - 6.0)
+            ay += 0.05 * ((r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r())
+                          - 6.0)
+            az += 0.05 * ((r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r())
+                          - 6.0)
         if self._pulse is not None:
             k0, peak, bx, by, phase = self._pulse
             j = step - k0
