@@ -26,6 +26,10 @@ from typing import Any
 __all__ = ["main"]
 
 BRIDGE = "/ddes_grading_bridge"
+#: Topics that ROS latches by convention (tf2_ros's static broadcaster): the child's bridge
+#: publisher latches them too, so a message the grader forwards before the student's connection
+#: is up (the simulator's one /tf_static at the start) still reaches the student's listener.
+LATCHED = ("/tf_static",)
 
 
 def _read_exact(fd: int, n: int) -> bytes:
@@ -176,7 +180,8 @@ class _Bridge:
                 qs = -1 if sub.queue_size is None else int(sub.queue_size)
                 self.frames.append(protocol.encode_sub(who, name, sub.type, sub.md5sum, qs))
                 if name not in self.pubs:
-                    self.pubs[name] = Publisher(self.node, name, sub.data_class, queue_size=None)
+                    self.pubs[name] = Publisher(self.node, name, sub.data_class, queue_size=None,
+                                               latch=name in LATCHED)
         nodes = self.world.nodes
         for name, node in nodes.items():
             if name != BRIDGE and not node.is_shutdown():
