@@ -4,8 +4,9 @@ in :data:`ddes.grading.exercise.REGISTRY` on import.  Reference solutions and st
 
 from ddes.grading.exercise import REGISTRY
 from ddes.grading.exercises.ex2_package import EX2
+from ddes.grading.exercises.ex3_pillar import EX3
 
-for _ex in (EX2,):
+for _ex in (EX2, EX3):
     REGISTRY.register(_ex)
 
-__all__ = ["EX2"]
+__all__ = ["EX2", "EX3"]
