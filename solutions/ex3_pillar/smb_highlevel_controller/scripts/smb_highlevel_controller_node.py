@@ -27,7 +27,7 @@ class SmbHighlevelController:
 
     def __init__(self):
         self.read_parameters()
-        ### BEGIN SOLUTION
+        ### BEGIN SOLUTION stub: pass  # your code here: the two publishers, the TF buffer and listener
         self.cmd_publisher = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         self.marker_publisher = rospy.Publisher("visualization_marker", Marker, queue_size=1)
         self.tf_buffer = tf2_ros.Buffer()
@@ -42,7 +42,7 @@ class SmbHighlevelController:
         from the private parameters."""
         self.scan_topic = rospy.get_param("~scan_topic")
         self.queue_size = int(rospy.get_param("~queue_size"))
-        ### BEGIN SOLUTION
+        ### BEGIN SOLUTION stub: pass  # your code here: ~p_gain and ~speed
         self.p_gain = float(rospy.get_param("~p_gain"))
         self.speed = float(rospy.get_param("~speed"))
         ### END SOLUTION
