@@ -152,8 +152,21 @@ class Console:
                 ctx.eprint(f"ERROR: {too_long(line)}")
                 return 1
             try:
-                self.world.settle()  # what Python scheduled now (a process, a node) starts first
-                return self._command(line)
+                if ctx.rtf is None:
+                    self.world.settle()  # what Python scheduled now (a process, a node) first
+                    return self._command(line)
+                # Interactive: Ctrl+C sets a flag for the whole command (not a
+                # KeyboardInterrupt inside a node's callback, where it could be lost), which
+                # the paced run reads; a second Ctrl+C raises KeyboardInterrupt.
+                from ddes.kernel.realtime import InterruptFlag
+
+                with InterruptFlag(second_raises=True) as flag:
+                    ctx.interrupted = flag
+                    try:
+                        self.world.settle()
+                        return self._command(line)
+                    finally:
+                        ctx.interrupted = None
             except KeyboardInterrupt:  # Ctrl+C: the foreground command only
                 ctx.eprint(f"^C: stopped the foreground command '{_shown(line)}' (its nodes "
                            "were shut down; background jobs keep running: 'jobs' lists them)")

@@ -101,6 +101,9 @@ class ToolContext:
     #: A script's simulated time limit (``ddes console --until S``), kernel nanoseconds:
     #: foreground commands that ROS runs until Ctrl+C stop there; None: no limit.
     until_ns: int | None = None
+    #: While an interactive command runs: true once Ctrl+C was pressed (set for the whole
+    #: command, so a Ctrl+C pressed before its paced run starts is not lost); None otherwise.
+    interrupted: Callable[[], bool] | None = None
 
     def __post_init__(self) -> None:
         if self.rospack is None:

@@ -105,8 +105,11 @@ class InterruptFlag:
     the main thread (where signals cannot be handled) it does nothing.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, *, second_raises: bool = False) -> None:
         self.raised = False
+        #: A second Ctrl+C raises KeyboardInterrupt (a command that never looks at the flag
+        #: can still be stopped).
+        self.second_raises = second_raises
         self._old: object = None
         self._active = False
 
@@ -114,6 +117,8 @@ class InterruptFlag:
         return self.raised
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
+        if self.raised and self.second_raises:
+            raise KeyboardInterrupt
         self.raised = True
 
     def __enter__(self) -> InterruptFlag:

@@ -150,3 +150,19 @@ def test_an_interrupted_run_leaves_no_stale_stop() -> None:
     done.succeed()
     world.run_for(1)  # processing `done` no longer raises StopSimulation
     assert world.now == 23_000_000_000
+
+
+def test_interrupt_flag_sets_the_flag_and_a_second_ctrl_c_raises() -> None:
+    import signal
+
+    from ddes.kernel.realtime import InterruptFlag
+
+    with InterruptFlag(second_raises=True) as flag:
+        signal.raise_signal(signal.SIGINT)
+        assert flag()
+        with pytest.raises(KeyboardInterrupt):
+            signal.raise_signal(signal.SIGINT)
+    with InterruptFlag() as once_only:
+        signal.raise_signal(signal.SIGINT)
+        signal.raise_signal(signal.SIGINT)  # without second_raises: still just the flag
+        assert once_only()

@@ -28,7 +28,8 @@ def digest() -> str:
         m.header.frame_id, m.child_frame_id = parent, child
         m.header.stamp = Time._from_ns(ns)
         q = [rnd.gauss(0, 1) for _ in range(4)]
-        n = sum(v * v for v in q) ** 0.5
+        # left to right, as Python 3.11's sum(): 3.12's sum() of floats is compensated
+        n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) ** 0.5
         r, t = m.transform.rotation, m.transform.translation
         r.x, r.y, r.z, r.w = (v / n for v in q)
         t.x, t.y, t.z = (rnd.uniform(-2, 2) for _ in range(3))

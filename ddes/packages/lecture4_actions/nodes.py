@@ -43,7 +43,10 @@ ACTION = "lecture4_actions/FollowPathAction"
 def path_length(path: Message) -> float:
     """Length of the polyline through the poses of a ``nav_msgs/Path`` (m)."""
     pts = [(p.pose.position.x, p.pose.position.y) for p in path.poses]
-    return sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
+    total = 0.0  # added left to right: sum() of floats rounds differently from Python 3.12 on
+    for a, b in zip(pts, pts[1:]):
+        total += math.dist(a, b)
+    return total
 
 
 class FollowPathServer:
