@@ -28,6 +28,7 @@ each key publishes at once, so the same keys give the same twists on every run.
 
 from __future__ import annotations
 
+import atexit
 import os
 import sys
 from typing import TYPE_CHECKING, Any
@@ -121,6 +122,7 @@ class _Teleop:
         self._repeat_timer: Timer | None = None
         self._key_timer: Timer | None = None
         self._tty: Any = None  # the terminal's saved attributes while in cbreak mode
+        self._fd = -1
 
     # -- the publish thread ---------------------------------------------------------------
     def publish(self, x: Any, y: Any, z: Any, th: Any) -> None:
@@ -203,12 +205,14 @@ class _Teleop:
         import termios
         import tty
 
-        fd = sys.stdin.fileno()
+        fd = self._fd = sys.stdin.fileno()
         try:
             self._tty = termios.tcgetattr(fd)
             tty.setcbreak(fd)
         except termios.error:
             self._tty = None
+        else:
+            atexit.register(self._restore_terminal)  # a process that ends with the node alive
         string = get_message_class("std_msgs/String")
         env = self.node.world.env
 
@@ -236,13 +240,20 @@ class _Teleop:
         node = self.node
         post(node.world.env, 0, None, lambda _ev: node.signal_shutdown("Ctrl-C"))
 
-    def shutdown(self) -> None:
-        """An entity of the node: on exit, the publish thread's stop twist; the terminal back."""
+    def _restore_terminal(self) -> None:
         if self._tty is not None:
             import termios
 
-            termios.tcsetattr(sys.stdin.fileno(), termios.TCSADRAIN, self._tty)
-            self._tty = None
+            saved, self._tty = self._tty, None
+            atexit.unregister(self._restore_terminal)
+            try:
+                termios.tcsetattr(self._fd, termios.TCSADRAIN, saved)
+            except (termios.error, ValueError, OSError):
+                pass  # standard input closed or replaced meanwhile
+
+    def shutdown(self) -> None:
+        """An entity of the node: on exit, the publish thread's stop twist; the terminal back."""
+        self._restore_terminal()
         if self.ready:
             self.ready = False
             self.publish(0, 0, 0, 0)
