@@ -1,12 +1,20 @@
-"""``ddes demo``: a tour of what ddes can do, ending with the trace digest.
+"""``ddes demo``: a tour of what ddes can do, each part ending with its trace digest.
 
-The demo grows with the project; every part is deterministic, so the digest
-printed at the end is the same on every machine.
+The demo grows with the project; every part is deterministic, so the digests it
+prints are the same on every machine.  Three parts: the ROS concepts of the
+lectures (:func:`run_demo`), the robot (:func:`run_robot`: the simulator in the
+single-pillar world, a P controller, a top-view picture) and a graded submission
+(:func:`run_graded_submission`: exercise 3's reference solution, public
+scenario), which needs a checkout's ``solutions/`` (:func:`find_solutions`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import contextlib
+import io
+import tempfile
+from collections.abc import Callable, Sequence
+from pathlib import Path
 
 from simpy.events import ProcessGenerator
 
@@ -15,7 +23,8 @@ from ddes.graph.world import World
 from ddes.msg.message import Message
 from ddes.time import SimClock, Time, ns_to_sec, to_ns
 
-__all__ = ["build_demo", "run_demo"]
+__all__ = ["build_demo", "build_robot", "find_solutions", "run_demo", "run_graded_submission",
+           "run_robot", "run_tour"]
 
 
 def _time_section(world: World, out: Callable[[str], None]) -> None:
@@ -203,3 +212,165 @@ def run_demo(seed: int = 0, until: float = 2.0, out: Callable[[str], None] = pri
     digest = world.digest()
     out(f"trace digest: {digest}")
     return digest
+
+
+#: Where the robot starts in the single-pillar world (pillar of radius 1 m at (20, 5)).
+ROBOT_START = (15.0, 3.5, 0.0)
+#: The P controller's gain and forward speed, as exercise 3's parameters.
+P_GAIN, SPEED = 1.0, 1.0
+
+
+def build_robot(seed: int = 0, out: Callable[[str], None] = print) -> tuple[World, object]:
+    """The robot's world (not yet run): the simulator in ``single_pillar`` and a yield-style
+    P controller steering to the closest laser return, with a reporter printing the true pose
+    each simulated second.  Returns the world and the simulator."""
+    from ddes.msg import get_message_class
+    from ddes.sim import Simulator, WorldSpec
+
+    world = World(seed=seed)
+    world.log_output = lambda line, level: out(line)  # the simulator's collision warning
+    x, y, yaw = ROBOT_START
+    sim = Simulator(world, WorldSpec.load("single_pillar"), x=x, y=y, yaw=yaw, noise=True)
+    twist = get_message_class("geometry_msgs/Twist")
+    vector3 = get_message_class("geometry_msgs/Vector3")
+    laser_scan = get_message_class("sensor_msgs/LaserScan")
+    node = world.create_node("pillar_controller")
+    cmd = node.advertise("/cmd_vel", twist, queue_size=1)
+    latest: list[Message] = []  # the last scan received
+
+    def on_scan(scan: Message) -> None:
+        latest[:] = [scan]
+
+    node.subscribe("/scan", laser_scan, on_scan, queue_size=1)
+
+    def control() -> ProcessGenerator:
+        rate = node.create_rate(10)
+        while not node.is_shutdown():
+            if latest:
+                scan = latest[-1]
+                best, index = float("inf"), -1
+                for i, r in enumerate(scan.ranges):  # the closest valid return: the pillar
+                    if scan.range_min <= r < best:
+                        best, index = r, i
+                if index >= 0:
+                    bearing = scan.angle_min + index * scan.angle_increment
+                    cmd.publish(twist(linear=vector3(x=SPEED),
+                                      angular=vector3(z=P_GAIN * bearing)))
+            yield rate.sleep()
+
+    node.process(control())
+
+    def report() -> ProcessGenerator:
+        while True:
+            out(_pose_line(world, sim))
+            yield world.timeout(1.0)
+
+    world.process(report())
+    return world, sim
+
+
+def _pose_line(world: World, sim: object) -> str:
+    from ddes.sim import Simulator
+
+    assert isinstance(sim, Simulator)
+    t = sim.truth
+    return (f"[{ns_to_sec(world.now):7.3f}] robot: x {t.x:6.3f} m  y {t.y:6.3f} m  "
+            f"yaw {t.yaw:+.3f} rad  v {t.v:.3f} m/s")
+
+
+def run_robot(seed: int = 0, until: float = 5.0, pictures: str | Path | None = None,
+              out: Callable[[str], None] = print) -> str:
+    """Drive the robot into the pillar, print its story, write its top view (into ``pictures``,
+    else a new temporary folder, never the current one) and return the trace digest."""
+    from ddes.sim import Simulator
+    from ddes.sim.view import top_view
+
+    out(f"The robot (seed {seed}): the SMB simulator in the world single_pillar, a P controller "
+        f"on the closest laser return, {until:g} simulated seconds\n")
+    world, sim = build_robot(seed, out)
+    assert isinstance(sim, Simulator)
+    world.run(until=until)
+    out(_pose_line(world, sim))
+    out("")
+    for c in sim.collisions:
+        out(f"collision: {c.obstacle} at t={ns_to_sec(c.stamp_ns):.3f} s, {c.speed:.3f} m/s, "
+            f"robot at ({c.pose.x:.3f}, {c.pose.y:.3f})")
+    if not sim.collisions:
+        out("collision: none")
+    folder = Path(pictures) if pictures is not None else Path(
+        tempfile.mkdtemp(prefix="ddes-demo-"))
+    folder.mkdir(parents=True, exist_ok=True)
+    picture = folder / "top_view.png"
+    top_view(sim).savefig(picture)
+    out(f"top view: {picture}")
+    out(f"simulated {ns_to_sec(world.now):.3f} s; {len(world.trace)} trace events")
+    digest = world.digest()
+    out(f"trace digest: {digest}")
+    return digest
+
+
+#: The submission the demo grades, inside a checkout.
+DEMO_EXERCISE = "ex3_pillar"
+
+
+def find_solutions(exercise: str = DEMO_EXERCISE,
+                   roots: Sequence[Path] | None = None) -> Path | None:
+    """The reference solution of ``exercise`` in a checkout: ``solutions/<exercise>`` next to
+    the ``ddes`` package (a source checkout, or an editable install), else in the current
+    directory (README's set-up command runs the demo from the repository root); None when
+    neither holds one.  ``roots`` replaces those two folders."""
+    import ddes
+
+    if roots is None:
+        roots = [Path(ddes.__file__).resolve().parent.parent, Path.cwd()]
+    for root in roots:
+        folder = root / "solutions" / exercise
+        if (folder / "smb_highlevel_controller" / "package.xml").is_file():
+            return folder
+    return None
+
+
+def run_graded_submission(solution: Path | None = None,
+                          out: Callable[[str], None] = print) -> float | None:
+    """Grade the reference solution of exercise 3 on its public scenario, as ``ddes grade
+    ex3_pillar solutions/ex3_pillar --public`` does, and print the report; returns the
+    percentage (None, with a line saying where the exercises are, without a checkout)."""
+    from ddes.grading.exercise import REGISTRY
+    from ddes.grading.grader import grade
+
+    folder = solution if solution is not None else find_solutions()
+    if folder is None:
+        out(f"A graded submission: the exercises and their reference solutions are in the "
+            f"source checkout (exercises/, solutions/); run `ddes demo` from its root, or "
+            f"`ddes grade {DEMO_EXERCISE} SUBMISSION --public` on your own.")
+        return None
+    shown = _relative(folder)
+    out(f"A graded submission: `ddes grade {DEMO_EXERCISE} {shown} --public` (the reference "
+        f"solution; the student's nodes run in a confined process, the score is computed "
+        f"outside it)\n")
+    # The grader's world logs the simulator's collision warning on standard error; the report
+    # says what counts.
+    with contextlib.redirect_stderr(io.StringIO()):
+        report = grade(REGISTRY.get(DEMO_EXERCISE), shown, public=True)
+    out(report.to_text().rstrip("\n"))
+    return report.percent
+
+
+def _relative(folder: Path) -> str:
+    """``folder`` relative to the current directory when it lies below it."""
+    try:
+        return str(folder.resolve().relative_to(Path.cwd().resolve()))
+    except ValueError:
+        return str(folder)
+
+
+def run_tour(seed: int = 0, until: float = 2.0, pictures: str | Path | None = None,
+             out: Callable[[str], None] = print) -> tuple[str, str, float | None]:
+    """``ddes demo``: the three parts one after the other; returns the two digests and the
+    graded percentage (None without a checkout)."""
+    digest = run_demo(seed=seed, until=until, out=out)
+    out("")
+    robot = run_robot(seed=seed, pictures=pictures, out=out)
+    out("")
+    percent = run_graded_submission(out=out)
+    return digest, robot, percent

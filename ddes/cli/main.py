@@ -46,7 +46,10 @@ def _build() -> tuple[argparse.ArgumentParser, list[str]]:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     demo = sub.add_parser("demo", help="run the guided demo and print its trace digest")
     demo.add_argument("--seed", type=int, default=0, help="world seed (default 0)")
-    demo.add_argument("--until", type=float, default=2.0, help="simulated seconds (default 2)")
+    demo.add_argument("--until", type=float, default=2.0,
+                      help="simulated seconds of the first part (default 2)")
+    demo.add_argument("--pictures", metavar="DIR", default=None,
+                      help="folder for the robot's top view (default: a new temporary folder)")
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(sub)
     return parser, list(sub.choices)
@@ -59,9 +62,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         if args.command == "demo":
-            from ddes.cli.demo import run_demo
+            from ddes.cli.demo import run_tour
 
-            run_demo(seed=args.seed, until=args.until)
+            run_tour(seed=args.seed, until=args.until, pictures=args.pictures)
             return 0
         if getattr(args, "func", None) is not None:
             return int(args.func(args))
