@@ -3,10 +3,11 @@ in :data:`ddes.grading.exercise.REGISTRY` on import.  Reference solutions and st
 ``solutions/<id>/`` and ``exercises/<id>/`` of the repository."""
 
 from ddes.grading.exercise import REGISTRY
+from ddes.grading.exercises.ex1_console import EX1
 from ddes.grading.exercises.ex2_package import EX2
 from ddes.grading.exercises.ex3_pillar import EX3
 
-for _ex in (EX2, EX3):
+for _ex in (EX1, EX2, EX3):
     REGISTRY.register(_ex)
 
-__all__ = ["EX2", "EX3"]
+__all__ = ["EX1", "EX2", "EX3"]
