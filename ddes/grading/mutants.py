@@ -269,18 +269,17 @@ class SensitivityResult:
 
     def to_text(self) -> str:
         name_w = max([len(r.name) for r in self.rows] + [10])
-        col_w = max([len(c) for c in self.criteria] + [4])
+        table = [[(f"{r.lost.get(c, 0.0):.4g}" if r.lost.get(c, 0.0) else ".")
+                  + ("*" if c in r.expected else " ") for c in self.criteria] for r in self.rows]
+        col_w = max([len(c) for c in self.criteria] + [len(x) for row in table for x in row]
+                    + [4])  # wide enough for a partial loss such as "6.667*"
         head = f"{'mutant':<{name_w}}  {'kind':<10} " + " ".join(
             f"{c:>{col_w}}" for c in self.criteria) + "  verdict"
         out = [f"{self.exercise}: kill matrix (points lost; * = expected to lose; seed "
                f"{self.seed})", head]
-        for r in self.rows:
-            cells = []
-            for c in self.criteria:
-                lost = r.lost.get(c, 0.0)
-                mark = "*" if c in r.expected else " "
-                cells.append(f"{(f'{lost:g}' if lost else '.') + mark:>{col_w}}")
-            out.append(f"{r.name:<{name_w}}  {r.kind:<10} " + " ".join(cells) + f"  {r.verdict}")
+        for r, cells in zip(self.rows, table):
+            out.append(f"{r.name:<{name_w}}  {r.kind:<10} "
+                       + " ".join(f"{x:>{col_w}}" for x in cells) + f"  {r.verdict}")
         bugs = [r for r in self.rows if r.kind == "bug"]
         killed = sum(1 for r in bugs if r.ok)
         out.append(f"bug mutants killed: {killed} of {len(bugs)}; "
