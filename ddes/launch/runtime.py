@@ -214,7 +214,7 @@ class LaunchRunner:
         ddes refuses the launch instead (naming the ``<node>``'s file and
         line), so a typo never leaves a half-started launch behind.
         """
-        from ddes.nodes import load_node_types
+        from ddes.nodes import find_script, load_node_types
 
         for spec in self.plan.nodes:
             where = f"{spec.source}: " if spec.source else ""
@@ -224,7 +224,7 @@ class LaunchRunner:
             except DdesError as exc:
                 raise ROSLaunchException(
                     f"{where}cannot launch node of type [{spec.pkg}/{spec.type}]: {exc}") from None
-            if spec.type not in types:
+            if spec.type not in types and find_script(folder, spec.type) is None:
                 known = ", ".join(sorted(types)) or "none"
                 raise ROSLaunchException(
                     f"{where}cannot launch node of type [{spec.pkg}/{spec.type}]: Couldn't find "
