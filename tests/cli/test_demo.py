@@ -3,8 +3,11 @@ submission (exercise 3's reference solution, public scenario) when a checkout is
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -83,3 +86,19 @@ def test_without_a_checkout_the_demo_says_where_the_exercises_are(
     assert demo.run_graded_submission(out=lines.append) is None
     assert len(lines) == 1
     assert "exercises/, solutions/" in lines[0] and "ddes grade ex3_pillar" in lines[0]
+
+
+ROBOT = ("from ddes.cli.demo import build_robot\n"
+         "world, sim = build_robot(seed=2, out=lambda s: None)\n"
+         "world.run(until=5.0)\n"
+         "print(world.digest())\n")
+
+
+def test_the_robot_digest_is_independent_of_the_hash_seed() -> None:
+    digests = {subprocess.run([sys.executable, "-c", ROBOT], capture_output=True, text=True,
+                              check=True, timeout=120,
+                              env=dict(os.environ, PYTHONHASHSEED=seed)).stdout.strip()
+               for seed in ("0", "4242")}
+    world, _ = demo.build_robot(seed=2, out=lambda s: None)
+    world.run(until=5.0)
+    assert digests == {world.digest()}
