@@ -88,7 +88,7 @@ def test_a_node_that_measures_with_the_wall_clock_is_found_and_shrunk() -> None:
     v = stopwatch_violation()
     print(v)
     assert "your check failed: elapsed" in v.problem
-    assert len(v.steps) <= 2, v
+    assert len(v.steps) <= 4, v  # 1-2 steps on Python 3.11/3.12; 3.13 draws and shrinks to 4
     assert f"replay_time_schedule({v.steps!r}, seed={v.seed}, make_node=make_stopwatch, " \
            "check=stopwatch_check)" in str(v)
     replay = eval(v.replay, {"replay_time_schedule": replay_time_schedule,  # noqa: S307
