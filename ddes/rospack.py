@@ -7,6 +7,9 @@ folder is either a package itself or is searched recursively for packages
 (not descending into a package).  The first package of a name wins, as with
 ``ROS_PACKAGE_PATH``.
 
+A package's name is its ``package.xml``'s ``<name>`` (as rospkg reads it; the folder
+may be named otherwise), or the folder's name where there is no package.xml.
+
 The path is: the folders given explicitly, then ddes's bundled packages.
 The environment is never read behind the caller's back: only
 :meth:`RosPack.from_environment` (or an explicit ``use_env=True``) adds the
@@ -111,7 +114,7 @@ class RosPack:
             while stack:
                 folder = stack.pop()
                 if is_package(folder):
-                    index.setdefault(folder.name, folder)
+                    index.setdefault(_package_name(folder), folder)
                     continue
                 try:
                     children = sorted(p for p in folder.iterdir() if p.is_dir())
@@ -163,6 +166,21 @@ class RosPack:
         if self._index is None:
             self._index = self._scan()
         return name in self._index
+
+
+def _package_name(folder: Path) -> str:
+    """A package's name as rospkg reads it: package.xml's ``<name>``; the folder's name for a
+    folder without one (a plain folder of message definitions) or whose package.xml cannot be
+    read (its errors are raised where the manifest is used: ``rospack depends``)."""
+    manifest = folder / "package.xml"
+    if not manifest.is_file():
+        return folder.name
+    try:
+        texts = _top_level_texts(manifest, folder.name)
+    except DdesError:
+        return folder.name
+    name = next((text.strip() for tag, text in texts if tag == "name"), "")
+    return name or folder.name
 
 
 def _declared_depends(manifest: Path, name: str) -> list[str]:

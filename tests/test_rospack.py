@@ -100,3 +100,16 @@ def test_depends1_is_rospacks_rule(elements: list[tuple[str, str]]) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         _write(Path(tmp), "pkg", body)
         assert RosPack([tmp], bundled=False).depends1("pkg") == expected
+
+
+def test_a_package_is_named_by_its_package_xml_not_its_folder(tmp_path: Path) -> None:
+    folder = tmp_path / "src" / "folder_name"
+    folder.mkdir(parents=True)
+    (folder / "package.xml").write_text(_HEAD.format("real_name") + "</package>\n")
+    (tmp_path / "defs" / "msg").mkdir(parents=True)  # no package.xml: the folder's name
+    rp = RosPack([tmp_path])
+    assert rp.get_path("real_name") == folder
+    assert "folder_name" not in rp
+    assert rp.get_path("defs") == tmp_path / "defs"
+    with pytest.raises(PackageNotFound):
+        rp.get_path("folder_name")

@@ -9,6 +9,7 @@ what it costs; the criteria are still computed on whatever ran.
 
 from __future__ import annotations
 
+import re
 import shlex
 import shutil
 import tempfile
@@ -130,11 +131,27 @@ def _note_problems(report: GradeReport, facts: Facts) -> None:
     if outcome.enforced:
         report.enforced = list(outcome.enforced)
     if outcome.state in ("killed", "exited"):
-        report.problems.append(f"{name}: {outcome.reason}")
+        failed = outcome.returncode != 0  # an error's traceback ends a failing run's output
+        report.problems.append(f"{name}: {outcome.reason}"
+                               + (_last_words(outcome.output_tail) if failed else ""))
     if refused:
         report.problems.append(f"{name}: the grader refused {len(refused)} item(s) from "
                                f"the student's process, first at t={refused[0][0] / 1e9:.3f} s: "
                                f"{refused[0][1]}")
+
+
+def _last_words(tail: str) -> str:
+    """The end of the student's own output (a traceback's file, line and error), quoted and
+    labelled as theirs: shown to the student, never used for a score."""
+    lines = [line.strip() for line in tail.splitlines()
+             if line.strip() and not line.startswith("[ddes grading sandbox]")]
+    if not lines:
+        return ""
+    where = next((line for line in reversed(lines[:-1]) if line.startswith("File ")), None)
+    if where is not None:  # the path inside the submission, not the sandbox's copy of it
+        where = re.sub(r'^File "[^"]*?/ddes-grade-[^/"]*/work/', 'File "', where)
+    said = " / ".join(x for x in (where, lines[-1]) if x)
+    return f"; its output ends with: {said[:300]!r}"
 
 
 def score_scenario(exercise: Exercise, facts: Facts) -> list[tuple[str, float, list[str]]]:
@@ -146,7 +163,9 @@ def score_scenario(exercise: Exercise, facts: Facts) -> list[tuple[str, float, l
         try:
             points, lines = c.check(facts)
             got = finite_points(points, c.max_points)
-            lines = [str(x)[:500] for x in list(lines)[:20]]
+            root = str(facts.submission)  # paths shown inside the submission, not its copy
+            lines = [str(x).replace(root + "/", "").replace(root, ".")[:500]
+                     for x in list(lines)[:20]]
         except Exception as exc:  # noqa: BLE001 - a check that fails earns nothing and says why
             got, lines = 0.0, [f"the check could not be computed: {type(exc).__name__}: {exc}"]
         shown: list[str] = []
