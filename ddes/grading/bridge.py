@@ -31,9 +31,21 @@ stamps other than the step's, and bytes that do not decode to exactly themselves
 grader's own message class.  A refused item is recorded in :attr:`Lockstep.problems` and
 dropped (fail closed); a frame that breaks the protocol ends the child.
 
-**Left out** (documented in docs/grading.md): services and parameters do not cross yet (the
-child's nodes see only the parameters of their command line), nor do subscriptions on
-``AnyMsg``.
+**Services.**  A service a student node advertises (``SRV``) gets a proxy server of the same
+name and type on the node's proxy, once the grader's own service class of that type has the same
+md5 sum (a name a grader node serves is refused).  A grader-side call of it is not served in the
+grader: its request bytes cross as ``CALL id`` before the next ``STEP``, the child calls the
+student's server through a ServiceProxy of its bridge node, and the answer comes back as ``RESP
+id``, at the instant it arrives in the child (a handler that yields simulated time answers
+later).  Response bytes must decode to exactly themselves with the grader's response class; error
+texts are UTF-8 of at most ``MAX_ERROR`` bytes.  A RESP that is malformed, unknown or answered
+twice is refused; the caller of a refused answer receives an error, and the callers of a child
+that ends receive rospy's transport error (the proxy server shuts down with the node).
+
+**Left out** (documented in docs/grading.md): parameters do not cross yet (the child's nodes
+see only the parameters of their command line), nor do subscriptions on ``AnyMsg``, nor do
+services advertised by the grader's world toward the student's nodes (student clients see only
+the child's own services).
 """
 
 from __future__ import annotations
@@ -45,6 +57,7 @@ from ddes.grading import protocol
 from ddes.grading.sandbox import Sandbox, SandboxOutcome
 from ddes.graph.names import is_legal_name
 from ddes.graph.topics import Publisher, Subscriber
+from ddes.services.server import Service
 from ddes.time import Time
 
 if TYPE_CHECKING:
@@ -77,6 +90,12 @@ class Lockstep:
         self._subs: dict[tuple[str, str], Subscriber[Any]] = {}
         self._forwarding: dict[str, tuple[str, str]] = {}
         self._inputs: list[tuple[str, str, str, bytes]] = []
+        #: Service calls waiting for the next STEP: ``(id, service, request bytes)``.
+        self._calls: list[tuple[int, str, bytes]] = []
+        #: Calls sent to the child and not answered yet, by id.
+        self._pending: dict[int, tuple[_ProxyService, Any, Any]] = {}
+        self._services: dict[str, _ProxyService] = {}
+        self._next_call = 0
         #: What the grader refused from the child, in order: ``(t_ns, text)``.
         self.problems: list[tuple[int, str]] = []
         #: Exchanges made (STEP frames sent).
@@ -112,10 +131,15 @@ class Lockstep:
         for _ in range(MAX_ROUNDS):
             self.world.run_through(t)
             inputs, self._inputs = self._inputs, []
-            if not self.sandbox.alive or (not inputs and self._child_next != t):
+            calls, self._calls = self._calls, []
+            if not self.sandbox.alive or (not inputs and not calls and self._child_next != t):
+                for call_id, _name, _data in calls:
+                    self._answer(call_id, False, "the student's process has ended")
+                if calls:
+                    continue
                 return
             self.steps += 1
-            reply = self.sandbox.step(t, inputs)
+            reply = self.sandbox.step(t, inputs, calls) if calls else self.sandbox.step(t, inputs)
             if reply is None:
                 self._child_gone()
                 return
@@ -175,6 +199,10 @@ class Lockstep:
                 self._adv(fr, t)
             elif isinstance(fr, protocol.Sub):
                 self._sub(fr, t)
+            elif isinstance(fr, protocol.Srv):
+                self._srv(fr, t)
+            elif isinstance(fr, protocol.Resp):
+                published |= self._resp(fr, t)
             elif isinstance(fr, protocol.Gone):
                 node = self.proxies.get(fr.node)
                 if node is not None and not node.is_shutdown():
@@ -267,7 +295,101 @@ class Lockstep:
         pub.publish(msg)
         return True
 
+    # -- services ------------------------------------------------------------------------------
+    def _srv(self, fr: protocol.Srv, t: int) -> None:
+        if not _global_name(fr.service):
+            self._refuse(t, f"illegal service name {fr.service[:80]!r}")
+            return
+        if fr.service in self._services:
+            return
+        if len(self._pubs) + len(self._subs) + len(self._services) >= MAX_ENDPOINTS:
+            self._refuse(t, f"{fr.node[:80]} advertising service {fr.service[:80]}: more than "
+                            f"{MAX_ENDPOINTS} endpoints")
+            return
+        what = f"{fr.node[:80]} advertising service {fr.service[:80]}"
+        try:
+            cls = self.world.messages.get_service_class(fr.type)
+        except (DdesError, ValueError, KeyError):
+            self._refuse(t, f"{what}: unknown service type {fr.type[:80]!r}")
+            return
+        if cls._md5sum != fr.md5:
+            self._refuse(t, f"{what}: md5 {fr.md5[:40]!r} of {fr.type[:80]} differs from the "
+                            f"grader's {cls._md5sum}")
+            return
+        if self.world.master.lookup_service(fr.service) is not None:
+            self._refuse(t, f"{what}: the name is served by the grader's world: refused")
+            return
+        node = self._proxy(fr.node, t)
+        if node is None:
+            return
+        try:
+            self._services[fr.service] = _ProxyService(node, fr.service, cls, self)
+        except DdesError as exc:
+            self._refuse(t, f"{what}: {exc}")
+
+    def _forward_call(self, server: _ProxyService, conn: Any, call: Any) -> None:
+        """A grader-side client's request reached a proxy server: it crosses at the next STEP."""
+        self._next_call += 1
+        self._pending[self._next_call] = (server, conn, call)
+        self._calls.append((self._next_call, server.resolved_name, call.data))
+
+    def _answer(self, call_id: int, ok: bool, payload: bytes | str) -> bool:
+        found = self._pending.pop(call_id, None)
+        if found is None:
+            return False
+        server, conn, call = found
+        server._send(conn, call, ok, payload)
+        return True
+
+    def _resp(self, fr: protocol.Resp, t: int) -> bool:
+        found = self._pending.get(fr.id)
+        if found is None:
+            self._refuse(t, f"answer to service call {fr.id}, which is not waiting for one")
+            return False
+        server = found[0]
+        if not fr.ok:
+            try:
+                text = fr.data.decode("utf-8")
+            except UnicodeDecodeError:
+                self._refuse(t, f"error text of the call of {server.resolved_name} is not UTF-8")
+                return self._answer(fr.id, False, "the student's server sent an unreadable error")
+            return self._answer(fr.id, False, text)
+        cls = server.response_class
+        try:
+            same = cls.__new__(cls)._deserialize_from(fr.data)._serialize_to_bytes() == fr.data
+        except Exception:  # noqa: BLE001 - bytes from the student: any decoding failure refuses them
+            same = False
+        if not same:
+            self._refuse(t, f"answer of {server.resolved_name}: {len(fr.data)} bytes that are not "
+                            f"one {server.type} response")
+            return self._answer(fr.id, False, f"the student's server answered bytes that are not "
+                                              f"one {server.type} response")
+        return self._answer(fr.id, True, fr.data)
+
     def _child_gone(self) -> None:
         for node in self.proxies.values():
             if not node.is_shutdown():
                 node.shutdown("the student's process ended")
+
+
+class _ProxyService(Service):
+    """The grader-side face of a student's service: requests are forwarded to the child by the
+    :class:`Lockstep`, never served here (no handler of the student runs in the grader)."""
+
+    def __init__(self, node: Node, name: str, service_class: Any, lock: Lockstep) -> None:
+        self._lock = lock
+        super().__init__(node, name, service_class, self._never)
+
+    @staticmethod
+    def _never(_request: Any) -> None:
+        raise AssertionError("a proxy service is never served in the grader")
+
+    def _on_request(self, conn: Any, call: Any) -> None:
+        if conn.server_gone:
+            return
+        world = self.world
+        world.trace.append_row((world.env.now_ns, "service.request", self.node.name,
+                                 ("service", "call", "client"), self.resolved_name, call.id,
+                                 conn.proxy.node.name))
+        self._stats.served += 1
+        self._lock._forward_call(self, conn, call)

@@ -12,7 +12,8 @@ namespace, an unprivileged user where the grader is root).  It then
    installation, ddes and the submission copy; write only under the submission copy; TCP bind
    and connect refused; no signals to processes outside the sandbox) and installs an audit hook
    that refuses sockets, subprocesses, ``exec``, ``fork`` and ``ctypes``;
-4. answers STEP frames (see :mod:`ddes.grading.protocol`) until END or end of input.
+4. answers STEP frames (see :mod:`ddes.grading.protocol`) until END or end of input, and the
+   CALL frames before them by calling the student's service through a bridge ServiceProxy.
 
 Nothing here is trusted by the grader: it decodes and checks every frame this process writes.
 """
@@ -137,6 +138,8 @@ class _Bridge:
         self.subs: dict[str, Any] = {}   # topic -> bridge subscriber (student -> grader)
         self.seen_pub: set[tuple[str, str]] = set()
         self.seen_sub: set[tuple[str, str]] = set()
+        self.seen_srv: set[tuple[str, str]] = set()
+        self.clients: dict[str, Any] = {}  # service -> the bridge's ServiceProxy
         self.live: dict[str, None] = {}
 
     def capture(self, topic: str) -> Any:
@@ -158,6 +161,41 @@ class _Bridge:
                 continue
             cls = pub.data_class
             pub.publish(cls.__new__(cls)._deserialize_from(data))
+
+    def call(self, calls: list[Any]) -> None:
+        """Call the student's services for the grader's CALL frames; each answer becomes a RESP
+        frame when it arrives (now, or later in simulated time)."""
+        from ddes.grading import protocol
+        from ddes.services.client import ServiceProxy
+
+        for c in calls:
+            entry = self.world.master.lookup_service(c.service)
+            if entry is None or entry.node.name == BRIDGE:
+                self.frames.append(protocol.encode_resp(c.id, False,
+                                                        f"service [{c.service}] unavailable"))
+                continue
+            try:
+                proxy = self.clients.get(c.service)
+                if proxy is None or proxy.service_class is not entry.server.service_class:
+                    proxy = self.clients[c.service] = ServiceProxy(
+                        self.node, c.service, entry.server.service_class)
+                cls = proxy.request_class
+                request = cls.__new__(cls)._deserialize_from(c.data)
+                pending = proxy._start((request,), {}, None)
+            except Exception as exc:  # noqa: BLE001 - answered as an error, never raised
+                self.frames.append(protocol.encode_resp(c.id, False, f"{type(exc).__name__}: {exc}"))
+                continue
+
+            def answer_call(ev: Any, call_id: int = c.id, pc: Any = pending) -> None:
+                ev.defused = True
+                if ev.ok:
+                    data = ev.value._serialize_to_bytes()
+                    self.frames.append(protocol.encode_resp(call_id, True, data))
+                else:
+                    text = pc.server_text if pc.server_text is not None else str(ev.value)
+                    self.frames.append(protocol.encode_resp(call_id, False, text))
+
+            pending.event.callbacks.append(answer_call)
 
     def discover(self) -> None:
         from ddes.grading import protocol
@@ -182,6 +220,12 @@ class _Bridge:
                 if name not in self.pubs:
                     self.pubs[name] = Publisher(self.node, name, sub.data_class, queue_size=None,
                                                latch=name in LATCHED)
+        for name, sentry in list(self.world.master.services.items()):
+            who = sentry.node.name
+            if who == BRIDGE or (who, name) in self.seen_srv:
+                continue
+            self.seen_srv.add((who, name))
+            self.frames.append(protocol.encode_srv(who, name, sentry.type, sentry.md5sum))
         nodes = self.world.nodes
         for name, node in nodes.items():
             if name != BRIDGE and not node.is_shutdown():
@@ -248,6 +292,7 @@ def main(argv: list[str] | None = None) -> int:
         print(line, file=sys.stderr, flush=True)
 
     started = False
+    calls: list[Any] = []
     while True:
         try:
             header = _read_exact(inp, protocol.HEADER.size)
@@ -255,12 +300,18 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         kind, length = protocol.decode_header(header)
         frame = protocol.decode_frame(kind, _read_exact(inp, length))
+        if isinstance(frame, protocol.Call):
+            calls.append(frame)  # made at the STEP that follows
+            continue
         if not isinstance(frame, protocol.Step):
             return 0
         t = frame.t_ns
         if world.now < t:
             world.run(until=_ns(t))
         bridge.inject(frame.messages)
+        if calls:
+            bridge.call(calls)
+            calls = []
         if not started:
             started = True
             for path, args in scripts:

@@ -16,6 +16,10 @@ Kinds, grader → child:
   subscriptions receive at ``t_ns``; the child publishes them at ``t_ns`` and
   runs every event due at or before ``t_ns``.
 * ``END``: the grade is over; the child exits.
+* ``CALL id service blob``: a grader-side client called the student's service ``service`` with
+  these request bytes; sent just before the ``STEP`` of the instant it happened at, and answered
+  by a ``RESP`` with the same ``id`` in that step's reply or a later one (a handler may take
+  simulated time).
 
 Kinds, child → grader (the reply to one STEP ends with ``DONE``):
 
@@ -23,6 +27,9 @@ Kinds, child → grader (the reply to one STEP ends with ``DONE``):
 * ``SUB node topic type md5 queue_size``: a student node subscribed (-1: no limit).
 * ``MSG node topic t_ns blob``: a student node published these wire bytes at ``t_ns``.
 * ``GONE node``: a student node has shut down.
+* ``SRV node service type md5``: a student node advertised a service.
+* ``RESP id ok blob``: the answer to ``CALL id``: ``ok`` 1 and the response's wire bytes, or
+  ``ok`` 0 and the error text (UTF-8, at most :data:`MAX_ERROR` bytes) the caller receives.
 * ``DONE next_ns``: the step is over; the child's next event is at ``next_ns`` (-1: none).
 * ``READY``: sent once, before the first step, when the child has imported ddes and confined
   itself (the grader gives that phase its own wall budget).
@@ -37,30 +44,40 @@ from ddes.errors import ProtocolError
 
 __all__ = [
     "ADV",
+    "CALL",
     "DONE",
     "END",
     "GONE",
     "HEADER",
     "MAX_FRAME",
+    "MAX_ERROR",
     "MAX_STR",
     "MSG",
     "READY",
+    "RESP",
+    "SRV",
     "STEP",
     "SUB",
     "Adv",
+    "Call",
     "Done",
     "Gone",
     "Msg",
+    "Resp",
+    "Srv",
     "Step",
     "Sub",
     "decode_frame",
     "decode_header",
     "encode_adv",
+    "encode_call",
     "encode_done",
     "encode_end",
     "encode_gone",
     "encode_msg",
     "encode_ready",
+    "encode_resp",
+    "encode_srv",
     "encode_step",
     "encode_sub",
 ]
@@ -71,10 +88,12 @@ HEADER = struct.Struct(">2sBI")
 MAX_FRAME = 8 * 1024 * 1024
 #: Longest string field (bytes of UTF-8): names, types and md5 sums are far shorter.
 MAX_STR = 1024
+#: Longest error text of a ``RESP`` (bytes of UTF-8).
+MAX_ERROR = 4096
 
-STEP, END = 1, 2
-ADV, SUB, MSG, GONE, DONE, READY = 10, 11, 12, 13, 14, 15
-_KINDS = {STEP, END, ADV, SUB, MSG, GONE, DONE, READY}
+STEP, END, CALL = 1, 2, 3
+ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP = 10, 11, 12, 13, 14, 15, 16, 17
+_KINDS = {STEP, END, CALL, ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP}
 
 _I64 = struct.Struct(">q")
 _I32 = struct.Struct(">i")
@@ -124,7 +143,30 @@ class Done:
     next_ns: int
 
 
-Frame = Step | Adv | Sub | Msg | Gone | Done | None
+@dataclass(frozen=True)
+class Call:
+    id: int
+    service: str
+    data: bytes
+
+
+@dataclass(frozen=True)
+class Srv:
+    node: str
+    service: str
+    type: str
+    md5: str
+
+
+@dataclass(frozen=True)
+class Resp:
+    id: int
+    ok: bool
+    #: The response's wire bytes (``ok``) or the error text's UTF-8 bytes.
+    data: bytes
+
+
+Frame = Step | Adv | Sub | Msg | Gone | Done | Call | Srv | Resp | None
 
 
 def _s(text: str) -> bytes:
@@ -169,6 +211,21 @@ def encode_msg(node: str, topic: str, t_ns: int, data: bytes) -> bytes:
 
 def encode_gone(node: str) -> bytes:
     return _frame(GONE, _s(node))
+
+
+def encode_call(call_id: int, service: str, data: bytes) -> bytes:
+    return _frame(CALL, _I64.pack(call_id) + _s(service) + _b(data))
+
+
+def encode_srv(node: str, service: str, type_: str, md5: str) -> bytes:
+    return _frame(SRV, _s(node) + _s(service) + _s(type_) + _s(md5))
+
+
+def encode_resp(call_id: int, ok: bool, data: bytes | str) -> bytes:
+    """``data``: the response's bytes (ok) or the error text, cut to :data:`MAX_ERROR` bytes."""
+    if isinstance(data, str):
+        data = data.encode("utf-8")[:MAX_ERROR].decode("utf-8", "ignore").encode("utf-8")
+    return _frame(RESP, _I64.pack(call_id) + bytes([1 if ok else 0]) + _b(data))
 
 
 def encode_ready() -> bytes:
@@ -261,6 +318,18 @@ def decode_frame(kind: int, payload: bytes) -> Frame:
         out = Gone(r.s())
     elif kind == DONE:
         out = Done(r.i64())
+    elif kind == CALL:
+        out = Call(r.i64(), r.s(), r.b())
+    elif kind == SRV:
+        out = Srv(r.s(), r.s(), r.s(), r.s())
+    elif kind == RESP:
+        call_id, ok = r.i64(), r.u8()
+        if ok not in (0, 1):
+            raise ProtocolError(f"ok flag {ok} (0 or 1)")
+        data = r.b()
+        if not ok and len(data) > MAX_ERROR:
+            raise ProtocolError(f"error text of {len(data)} bytes (at most {MAX_ERROR})")
+        out = Resp(call_id, bool(ok), data)
     else:  # decode_header refused it already
         raise ProtocolError(f"unknown frame kind {kind}")
     r.end()

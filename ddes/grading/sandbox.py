@@ -76,8 +76,8 @@ class Limits:
 class StepReply:
     """What the child answered to one STEP (frames still to be validated by the bridge)."""
 
-    frames: list[protocol.Adv | protocol.Sub | protocol.Msg | protocol.Gone] = field(
-        default_factory=list)
+    frames: list[protocol.Adv | protocol.Sub | protocol.Msg | protocol.Gone | protocol.Srv
+                 | protocol.Resp] = field(default_factory=list)
     next_ns: int = -1
 
 
@@ -234,8 +234,10 @@ class Sandbox:
         return run
 
     # -- steps ----------------------------------------------------------------------------------
-    def step(self, t_ns: int, messages: list[tuple[str, str, str, bytes]]) -> StepReply | None:
-        """Send one STEP and read its reply; None (and the child ended) when it fails."""
+    def step(self, t_ns: int, messages: list[tuple[str, str, str, bytes]],
+             calls: Sequence[tuple[int, str, bytes]] = ()) -> StepReply | None:
+        """Send one STEP (after a CALL frame per service call in ``calls``: ``(id, service,
+        request bytes)``) and read its reply; None (and the child ended) when it fails."""
         if not self.alive:
             return None
         budget = self.limits.step_wall_s
@@ -244,7 +246,8 @@ class Sandbox:
                 self._first = False
                 self._ready(t_ns)
             deadline = time.monotonic() + budget
-            self._send(protocol.encode_step(t_ns, messages), deadline)
+            head = b"".join(protocol.encode_call(i, name, data) for i, name, data in calls)
+            self._send(head + protocol.encode_step(t_ns, messages), deadline)
             return self._reply(t_ns, deadline)
         except TimeoutError as exc:
             self.kill("killed", f"{str(exc) or f'no answer within the {budget:g} s wall budget of a step'}"
@@ -312,7 +315,7 @@ class Sandbox:
                                         f"({t_ns} ns)")
                 reply.next_ns = frame.next_ns
                 return reply
-            if frame is None or isinstance(frame, protocol.Step):
+            if frame is None or isinstance(frame, (protocol.Step, protocol.Call)):
                 raise ProtocolError("the child sent a grader-side frame")
             reply.frames.append(frame)
 
