@@ -7,7 +7,6 @@ from ddes.grading.exercises.ex1_console import EX1
 from ddes.grading.exercises.ex2_package import EX2
 from ddes.grading.exercises.ex3_pillar import EX3
 from ddes.grading.exercises.ex4a_services import EX4A
-from ddes.grading.exercises.ex4a_services import EX4A
 from ddes.grading.exercises.ex4b_actions import EX4B
 
 for _ex in (EX1, EX2, EX3, EX4A, EX4B):
