@@ -1,4 +1,4 @@
-# ddes-digest: 
+# ddes-digest: 0672a31971b7ecce30c42ca9cdfae1e86b497c1169560cd7d61bbb01bd91ee5d
 # %% [markdown]
 # # Lecture 4b: actions
 #
@@ -110,7 +110,7 @@ client.send_goal(Goal(path=path(path_b)))
 world.run(until=14.0)
 client.cancel_goal()
 world.run(until=16.0)
-print("last goal:", GoalStatus.to_string(client.get_state()))
+print("last goal:", GoalStatus(client.get_state()).name)
 
 # %% [markdown]
 # The goals over time (`plot_goals`): each goal's row shows its states, the feedback ticks, the
