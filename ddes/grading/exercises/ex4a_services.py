@@ -279,6 +279,9 @@ def _stops(facts: Facts, recs: list[CallRecord], i: int) -> str:
     if sim is None:
         return "the simulator did not start"
     r = recs[i]
+    failed = _answered(r)
+    if failed:  # a robot that stops by itself (at the pillar) was not stopped by the service
+        return failed
     end = _next_change(recs, i, int(DURATION * 1e9))
     h = sim.history()
     before = [abs(v) for t, v in zip(h.t_ns, h.v) if t <= r.t_ns]
@@ -299,6 +302,9 @@ def _moves(facts: Facts, r: CallRecord) -> str:
     sim = notes(facts.world).sim
     if sim is None:
         return "the simulator did not start"
+    failed = _answered(r)
+    if failed:  # a robot that never stopped was not started by the service
+        return failed
     h = sim.history()
     pts = [(x, y) for t, x, y in zip(h.t_ns, h.x, h.y)
            if r.t_ns <= t <= r.t_ns + MOVE_WITHIN * 1e9]
@@ -354,9 +360,9 @@ def check_start(facts: Facts) -> tuple[float, list[str]]:
         return 0.0, [why]
     recs = [r for r in _calls(facts, script=False) if not r.data]
     answered = [_answered(r) for r in recs]
-    twist = [_twist_after_resume(facts, r) for r in recs]
+    twist = [_answered(r) or _twist_after_resume(facts, r) for r in recs]
     return (10 * _share(answered, len(recs)) + 10 * _share(twist, len(recs)),
-            [x for x in answered + twist if x])
+            list(dict.fromkeys(x for x in answered + twist if x)))
 
 
 def check_robot_starts(facts: Facts) -> tuple[float, list[str]]:

@@ -1,0 +1,72 @@
+"""Exercise 4a: the reference earns everything over a few seeds, the starter at most 20 %, the
+console script is parsed as rosservice fills a SetBool request, a hard-coded service name loses
+the hidden scenarios; one grading's wall time is printed."""
+
+from __future__ import annotations
+
+import shutil
+import time
+from pathlib import Path
+
+from ddes.grading import REGISTRY, grade
+from ddes.grading.exercises.ex4a_services import parse_script, scenarios
+
+ROOT = Path(__file__).resolve().parents[2]
+SOLUTION = ROOT / "solutions" / "ex4a_services"
+STARTER = ROOT / "exercises" / "ex4a_services"
+NODE = "smb_highlevel_controller/scripts/smb_highlevel_controller_node.py"
+EX = REGISTRY.get("ex4a_services")
+
+
+def points(report):  # type: ignore[no-untyped-def]
+    return {c.id: c.points for c in report.criteria}
+
+
+def test_reference_earns_everything_and_one_grading_is_timed() -> None:
+    start = time.perf_counter()
+    report = grade(EX, SOLUTION, seed=0)
+    wall = time.perf_counter() - start
+    print(f"ex4a_services: one grading (3 scenarios of {EX.duration:g} s) took {wall:.2f} s wall")
+    assert report.score == 100, [c.evidence for c in report.criteria]
+
+
+def test_reference_has_no_false_failure_over_a_few_seeds() -> None:
+    for seed in (1, 2, 3):
+        report = grade(EX, SOLUTION, seed=seed)
+        assert report.score == 100, (seed, [c.evidence for c in report.criteria])
+
+
+def test_starter_earns_at_most_20_percent() -> None:
+    assert grade(EX, STARTER, seed=0).score <= 20
+
+
+def test_a_hard_coded_service_name_loses_the_hidden_scenarios(tmp_path: Path) -> None:
+    sub = tmp_path / "sub"
+    shutil.copytree(SOLUTION, sub)
+    node = sub / NODE
+    text = node.read_text()
+    old = 'rospy.Service(self.stop_service_name, SetBool'
+    assert old in text
+    node.write_text(text.replace(old, 'rospy.Service("/emergency_stop", SetBool'))
+    got = points(grade(EX, sub, seed=0))
+    # the public scenario keeps its points, the two hidden ones lose theirs
+    assert round(got["4a.1"], 3) == round(20 / 3, 3) and round(got["4a.3"], 3) == round(10 / 3, 3)
+    assert round(got["4a.4"], 3) == round(20 / 3, 3) and round(got["4a.6"], 3) == round(10 / 3, 3)
+
+
+def test_the_script_is_parsed_as_rosservice_fills_a_request() -> None:
+    lines = parse_script('# comment\nrosservice call /estop "data: true"\nsleep 2\n'
+                         "rosservice call /estop '{data: false}'\nrosservice call /estop true\n"
+                         "rosservice call estop \"data: true\"\nrostopic pub /x\nsleep 99\n"
+                         'rosservice call /estop "dat: true"\n')
+    assert [(x.number, x.name, x.data, x.sleep, bool(x.error)) for x in lines] == [
+        (2, "/estop", True, 0.0, False), (3, "", None, 2.0, False),
+        (4, "/estop", False, 0.0, False), (5, "/estop", True, 0.0, False),
+        (6, "", None, 0.0, True), (7, "", None, 0.0, True), (8, "", None, 0.0, True),
+        (9, "", None, 0.0, True)]
+
+
+def test_hidden_scenarios_come_from_the_seed() -> None:
+    a, b = scenarios(5, False), scenarios(5, False)
+    assert a == b and a[1].params != scenarios(6, False)[1].params
+    assert a[1].params["service"] != a[2].params["service"] or a[1].params != a[2].params
