@@ -122,6 +122,6 @@ print(hashlib.sha256(f"{console.world.digest()} {world.digest()}".encode()).hexd
 # %% [markdown]
 # ## Try this
 #
-# Exercise 4a (`exercises/ex4a_services/`, coming) builds such an e-stop for the robot of
-# exercise 3. Here, call the e-stop twice in a row, or call a service nobody offers
+# Exercise 4a (`exercises/ex4a_services/README.md`) adds such an emergency stop, as a service, to
+# the pillar controller of exercise 3. Here, call the e-stop twice in a row, or call a service nobody offers
 # (`/driver/brake`) and read the error.
