@@ -430,7 +430,9 @@ def check_feedback(facts: Facts) -> tuple[float, list[str]]:
     bad = ""
     last = math.inf
     end = g.points[-1]
-    j = 0
+    j = k = 0
+    legs = [sum(math.dist(a, b) for a, b in zip(g.points[i:], g.points[i + 1:]))
+            for i in range(len(g.points))]
     for t, fb in fbs:
         rem = fb.remaining_distance
         while j + 1 < len(truth) and truth[j + 1][0] <= t:
@@ -442,6 +444,14 @@ def check_feedback(facts: Facts) -> tuple[float, list[str]]:
         if rem < math.hypot(end[0] - x, end[1] - y) - FB_TOL:
             bad = (f"t={t / 1e9:.2f} s: remaining_distance {rem:.2f} m is less than the straight "
                    f"distance from the robot to the path's end")
+            break
+        while k < len(g.points) and math.hypot(g.points[k][0] - x, g.points[k][1] - y) <= 0.05:
+            k += 1
+        bound = (math.hypot(g.points[k][0] - x, g.points[k][1] - y) + legs[k]
+                 if k < len(g.points) else 0.0)
+        if rem > bound + FB_TOL:
+            bad = (f"t={t / 1e9:.2f} s: remaining_distance {rem:.2f} m is more than the path "
+                   f"left from the robot ({bound:.2f} m)")
             break
         last = min(last, rem)
     if not bad and fbs[-1][1].remaining_distance > END_TOL + 0.1:
