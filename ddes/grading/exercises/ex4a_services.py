@@ -183,9 +183,9 @@ def _start_driver(world: Any, scenario: Scenario, script: list[ScriptLine],
 
     def drive():  # type: ignore[no-untyped-def]
         for at, source, target, data in plan:
-            now = world.now
-            if at > now:
-                yield node.sleep(at - now)
+            wait_ns = round(at * 1e9) - world.now  # the plan is in s, world.now in ns
+            if wait_ns > 0:
+                yield node.sleep(wait_ns / 1e9)
             rec = CallRecord(source, world.now, target, data)
             records.append(rec)
             try:
