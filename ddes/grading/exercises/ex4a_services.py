@@ -9,11 +9,15 @@ docs/grading.md), the ``/cmd_vel`` messages of the student's node, and the simul
 truth (true speed and position).  The console script is read as text and run by the grader's
 node line by line (``rosservice call NAME YAML...`` filled as rosservice fills it, ``sleep S``).
 The polarity follows the lecture-5 emergency stop: ``data: true`` stops, ``data: false``
-resumes.
+resumes.  The course's rule "logic in the class" (teaching.md's C0, -20 %) is graded as part of
+4a.1's "the service exists" share (5 points): read with :mod:`ast`, the class must read
+``~stop_service_name`` and advertise the Service with one of its methods as the handler, and the
+main part only build the class.
 """
 
 from __future__ import annotations
 
+import ast
 import math
 import shlex
 from dataclasses import dataclass
@@ -22,9 +26,9 @@ from typing import Any
 
 import yaml
 
-from ddes.grading.course import CourseExercise, hidden_random, notes
+from ddes.grading.course import CourseExercise, hidden_random, notes, parse_source
 from ddes.grading.exercise import Criterion, Facts, Scenario
-from ddes.grading.exercises.common import launch_problem
+from ddes.grading.exercises.common import call_name, calls_in, class_names, launch_problem
 from ddes.transformations import cos, sin
 
 __all__ = ["EX4A", "parse_script", "scenarios"]
@@ -319,6 +323,41 @@ def _share(items: list[str], n: int) -> float:
     return (n - len([x for x in items if x])) / n if n else 0.0
 
 
+# -- the course's class rule (part of 4a.1's "service exists" share) ------------------------------
+
+NODE_SCRIPT = f"{PKG}/scripts/{NODE_TYPE}"
+
+
+def _class_rule(facts: Facts) -> str:
+    """Why the node script breaks the course's rule "logic in the class" for the stop (empty
+    when it keeps it): read with :mod:`ast`, never imported.  The class reads
+    ``~stop_service_name`` and advertises the Service with one of its methods as the handler;
+    the main part builds the class and advertises no Service itself."""
+    tree = parse_source(facts, NODE_SCRIPT)
+    if tree is None:
+        return f"{NODE_SCRIPT} is missing or does not parse"
+    names = class_names(tree)
+    outside = [n for n in tree.body if not isinstance(n, ast.ClassDef)]
+    if not names or not any(call_name(c) in names for n in outside for c in calls_in(n)):
+        return "the node script does not define a class and build it in its main part"
+    if any(call_name(c) == "Service" for n in outside for c in calls_in(n)):
+        return "the main part advertises the Service; keep all logic in the class"
+    in_class = [c for n in tree.body if isinstance(n, ast.ClassDef) for c in calls_in(n)]
+    services = [c for c in in_class if call_name(c) == "Service"]
+    for c in services:
+        handler = c.args[2] if len(c.args) > 2 else next(
+            (k.value for k in c.keywords if k.arg == "handler"), None)
+        if not (isinstance(handler, ast.Attribute) and isinstance(handler.value, ast.Name)
+                and handler.value.id == "self"):
+            return "the class's Service must have one of its methods as the handler " \
+                   "(self.stop_callback)"
+    if not services:
+        return "the class advertises no Service"
+    if not any(call_name(c) == "get_param" and c.args and isinstance(c.args[0], ast.Constant)
+               and c.args[0].value == f"~{PARAM}" for c in in_class):
+        return f"the class does not read the private parameter ~{PARAM}"
+    return ""
+
 # -- 4a.1 / 4a.3 / 4a.4 / 4a.6: the grader's calls ------------------------------------------------
 
 def check_stop(facts: Facts) -> tuple[float, list[str]]:
@@ -329,12 +368,16 @@ def check_stop(facts: Facts) -> tuple[float, list[str]]:
     name = recs[0].name if recs else ""
     entry = facts.world.master.lookup_service(name)
     points, lines = 0.0, []
-    if entry is not None and entry.type == SETBOOL and entry.node.name in facts.student_nodes:
-        points += 5
-    else:
+    rule = _class_rule(facts)
+    if entry is None or entry.type != SETBOOL or entry.node.name not in facts.student_nodes:
         lines.append(f"no {SETBOOL} service of your node under {name} (the name the hidden "
                      f"parameter {PARAM} gives)" if facts.scenario.hidden else
                      f"no {SETBOOL} service of your node under {name} (your {PARAM})")
+    elif rule:
+        lines.append(f"the service works, but the course's rule 'logic in the class' is broken: "
+                     f"{rule}")
+    else:
+        points += 5
     stops = [i for i, r in enumerate(recs) if r.data]
     answered = [_answered(recs[i]) for i in stops]
     points += 5 * _share(answered, len(stops))
@@ -422,8 +465,8 @@ EX4A = _Ex4a(
     id="ex4a_services",
     title="A SetBool emergency stop in the controller, called from a console script",
     criteria=(
-        Criterion("4a.1", "stop implemented: the SetBool service under the parameter's name "
-                  "answers success, a zero Twist follows each stop at once and the controller "
+        Criterion("4a.1", "stop implemented: the SetBool service under the parameter's name, "
+                  "advertised by the class, answers success, a zero Twist follows each stop at once and the controller "
                   "stays quiet", 20, check_stop, credit=CREDIT),
         Criterion("4a.2", "stop called correctly: the console script's 'rosservice call ... "
                   "\"data: true\"' is well-formed and stops the robot", 20, check_script_stop,
