@@ -3,8 +3,9 @@
 * ``ddes grade list``: the exercises and their criteria;
 * ``ddes grade EXERCISE SUBMISSION [--results FILE] [--junit FILE] [--out DIR] [--seed N]
   [--public] [--fail-under PCT]``: grade one folder, ``.zip`` or notebook; prints the report;
-* ``ddes grade batch EXERCISE DIR --out OUT``: grade every submission in ``DIR`` one after the
-  other (``OUT/<submission>/results.json`` and ``OUT/summary.csv``);
+* ``ddes grade batch EXERCISE DIR --out OUT [--workers N | --scheduler ADDRESS]``: grade every
+  submission in ``DIR``, one task per (submission, scenario), serially or on Dask distributed
+  (``OUT/<submission>/results.json`` and ``OUT/summary.csv``, the same bytes for any N);
 * ``replay``, ``sweep``, ``sensitivity`` and the hidden-scenario key (``--secret-file``,
   ``--student``, ``--attempt``): ddes/cli/grade_tools.py.
 
@@ -21,6 +22,7 @@ import io
 import re
 import sys
 from pathlib import Path
+from typing import Any
 
 from ddes.cli.grade_tools import TOOLS, add_arguments, hidden_key
 from ddes.errors import GradingError
@@ -28,7 +30,7 @@ from ddes.errors import GradingError
 __all__ = ["register", "run_grade"]
 
 _USAGE = ("ddes grade list | ddes grade EXERCISE SUBMISSION [options] | "
-          "ddes grade batch EXERCISE DIR --out OUT | "
+          "ddes grade batch EXERCISE DIR --out OUT [--workers N | --scheduler ADDRESS] | "
           "ddes grade replay EXERCISE SUBMISSION --scenario NAME | "
           "ddes grade sweep EXERCISE SUBMISSION --seeds A:B | ddes grade sensitivity EXERCISE")
 
@@ -55,6 +57,11 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="wall budget of one step of the student's process (default 5 s)")
     p.add_argument("--mem", default=None, metavar="SIZE",
                    help="address-space limit of the student's process (e.g. 512M; default 768M)")
+    p.add_argument("--workers", type=int, default=0, metavar="N",
+                   help="batch: grade on a Dask LocalCluster of N processes (default 0: "
+                        "serially in this process; needs pip install \"ddes[batch]\")")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="batch: grade on the existing Dask cluster of this scheduler")
     add_arguments(p)
     p.set_defaults(func=run_grade)
 
@@ -152,32 +159,53 @@ def _safe_name(name: str) -> str:
 
 def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
            limits: object) -> int:
+    from ddes.grading.batch import assemble, run_tasks, task_key, tasks_of
     from ddes.grading.exercise import Exercise
-    from ddes.grading.grader import grade
     from ddes.grading.report import write_atomic
     from ddes.grading.sandbox import Limits
 
     assert isinstance(exercise, Exercise) and isinstance(limits, Limits)
     if not folder.is_dir():
         raise GradingError(f"batch: {folder} is not a folder of submissions")
+    if args.workers and args.scheduler:
+        raise GradingError("batch: give --workers N or --scheduler ADDRESS, not both")
     entries = sorted(p for p in folder.iterdir()
                      if p.is_dir() or p.suffix in (".zip", ".ipynb"))
     ids = [c.id for c in exercise.criteria]
-    rows: list[list[str]] = []
     used: set[str] = set()
+    # (entry, folder name, key, scenarios, its first task, its number of tasks or what failed)
+    plan: list[tuple[Path, str, Any, list[Any], int, int | str]] = []
+    tasks: list[Any] = []
+    keys: list[str] = []
     for entry in entries:
         name = _safe_name(entry.name)
         while name in used or name == "summary.csv":
             name += "_"
         used.add(name)
         try:
-            report = grade(exercise, entry, seed=args.seed, public=args.public, limits=limits,
-                           key=hidden_key(args, entry))
+            key = hidden_key(args, entry)
+            scenarios, mine = tasks_of(exercise, entry, seed=args.seed, public=args.public,
+                                       limits=limits, key=key)
         except Exception as exc:  # noqa: BLE001 - one broken grade never ends the batch
-            rows.append([entry.name, "", f"{exercise.max_points:g}", "",
-                         *[""] * len(ids), f"grader infrastructure error: {exc}"])
-            print(f"{entry.name}: grader infrastructure error: {exc}", file=sys.stderr)
+            plan.append((entry, name, None, [], -1, f"{type(exc).__name__}: {exc}"))
             continue
+        plan.append((entry, name, key, scenarios, len(tasks), len(mine)))
+        keys += [task_key(t, name, scenarios[t.index].name if t.index is not None else "")
+                 for t in mine]
+        tasks += mine
+    results = run_tasks(tasks, keys, workers=args.workers, scheduler=args.scheduler)
+    rows: list[list[str]] = []
+    for entry, name, key, scenarios, first, count in plan:
+        got = [count] if isinstance(count, str) else results[first:first + count]
+        broken = [r for r in got if isinstance(r, str)]
+        if broken:
+            rows.append([entry.name, "", f"{exercise.max_points:g}", "",
+                         *[""] * len(ids), f"grader infrastructure error: {broken[0]}"])
+            print(f"{entry.name}: grader infrastructure error: {broken[0]}", file=sys.stderr)
+            continue
+        report = assemble(exercise, str(entry), scenarios,
+                          [r for r in got if not isinstance(r, str)],
+                          seed=args.seed, public=args.public, key=key)
         _write_all(report, out / name)
         by_id = {c.id: c.points for c in report.criteria}
         rows.append([entry.name, f"{report.score:g}", f"{report.max_score:g}",

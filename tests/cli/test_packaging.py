@@ -108,6 +108,19 @@ def test_the_import_scanner_skips_type_checking_blocks() -> None:
     assert runtime_imports(tree) == {"a", "c", "g", "i"}
 
 
+#: (extra, its distributions, the only files that may import them, inside a function).
+OPTIONAL = [("batch", {"distributed"}, {"ddes/grading/batch.py"})]
+
+
+def test_optional_imports_are_lazy() -> None:
+    for _, dists, users in OPTIONAL:
+        for rel in users:
+            tree = ast.parse((REPO / rel).read_text(encoding="utf-8"), rel)
+            top = runtime_imports(ast.Module(body=[n for n in tree.body if not isinstance(
+                n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))], type_ignores=[]))
+            assert not top & dists, f"{rel} imports {top & dists} at import time"
+
+
 def test_the_dependencies_are_exactly_what_ddes_imports() -> None:
     declared = {dist_name(r) for r in pyproject()["project"]["dependencies"]}
     providers = metadata.packages_distributions()
@@ -117,6 +130,11 @@ def test_the_dependencies_are_exactly_what_ddes_imports() -> None:
         assert dists, f"{module} (imported by {files[0]}) is installed by no distribution"
         for dist in dists:
             imported.setdefault(dist_name(dist), []).extend(files)
+    # An extra's distribution may be imported, lazily (inside a function), by the files it serves.
+    for extra, dists, users in OPTIONAL:
+        assert dists <= {dist_name(r) for r in pyproject()["project"]["optional-dependencies"][extra]}
+        for dist in dists:
+            assert set(imported.pop(dist, [])) <= users, f"{dist} is the {extra} extra's"
     missing = {d: f[0] for d, f in imported.items() if d not in declared}
     assert not missing, f"ddes imports these but pyproject.toml does not declare them: {missing}"
     unused = declared - set(imported)
