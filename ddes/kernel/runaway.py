@@ -87,8 +87,8 @@ class Watchdog:
             return
         assert self.budget is not None
         if now - self._last_change >= self.budget:
-            self._last_change = now  # one raise per stuck step
-            raise WallBudgetExceeded(now - self._last_change)
+            stuck, self._last_change = now - self._last_change, now  # one raise per stuck step
+            raise WallBudgetExceeded(stuck)
 
     def __exit__(self, *exc: object) -> None:
         if not self.active:
