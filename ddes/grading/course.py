@@ -14,7 +14,7 @@
   ``from:=to``, ``_param:=value``: parameters cross into the child that way, since the child has
   a parameter server of its own).  ``rviz`` nodes are recorded, not started: their ``-d`` file is
   an artefact.
-* **Artefacts**: RViz configs read with ``yaml.safe_load`` (:func:`rviz_displays`), Python
+* **Artefacts**: RViz configs read with the bounded YAML loader (``ddes.graph.yamlsafe.load_yaml``) (:func:`rviz_displays`), Python
   source parsed with :mod:`ast` (never imported).
 """
 
@@ -31,6 +31,7 @@ import yaml
 
 from ddes.errors import DdesError
 from ddes.grading.exercise import Exercise, Facts, Scenario
+from ddes.graph.yamlsafe import load_yaml
 
 if TYPE_CHECKING:
     from ddes.graph.world import World
@@ -94,8 +95,8 @@ def _arg_value(value: Any) -> str:
         return repr(value)
     if isinstance(value, str):
         try:
-            same = yaml.safe_load(value) == value
-        except yaml.YAMLError:
+            same = load_yaml(value) == value
+        except (yaml.YAMLError, DdesError):
             same = False
         return value if same and value else yaml.safe_dump(value, default_flow_style=True).strip()
     return yaml.safe_dump(value, default_flow_style=True).strip().replace("\n", " ")
@@ -246,14 +247,14 @@ def rviz_file(facts: Facts) -> tuple[str | None, str]:
 
 def rviz_displays(facts: Facts) -> tuple[dict[str, Any] | None, list[dict[str, Any]], str]:
     """``(Global Options, displays, why)`` of the launch's RViz config (displays flattened out of
-    groups), read with ``yaml.safe_load``."""
+    groups), read with the bounded YAML loader."""
     rel, why = rviz_file(facts)
     if rel is None:
         return None, [], why
     text = facts.read_text(rel) or ""
     try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
+        data = load_yaml(text)
+    except (yaml.YAMLError, DdesError) as exc:  # malformed, or past the loader's bounds
         return None, [], f"{rel} is not YAML: {str(exc)[:120]}"
     manager = data.get("Visualization Manager") if isinstance(data, dict) else None
     if not isinstance(manager, dict):

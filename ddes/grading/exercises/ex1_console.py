@@ -19,8 +19,10 @@ from typing import Any
 
 import yaml
 
+from ddes.errors import DdesError
 from ddes.grading.course import CourseExercise, hidden_random, notes
 from ddes.grading.exercise import Criterion, Facts, Scenario
+from ddes.graph.yamlsafe import load_yaml
 
 __all__ = ["EX1", "key_script"]
 
@@ -317,8 +319,8 @@ def check_answers(facts: Facts) -> tuple[float, list[str]]:
     if text is None:
         return 0.0, [f"{ANSWERS} is missing"]
     try:
-        answers = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
+        answers = load_yaml(text)
+    except (yaml.YAMLError, DdesError) as exc:  # malformed, or past the loader's bounds
         return 0.0, [f"{ANSWERS} is not YAML: {str(exc)[:120]}"]
     if not isinstance(answers, dict):
         return 0.0, [f"{ANSWERS} must map each question to its answer ({', '.join(QUESTIONS)})"]

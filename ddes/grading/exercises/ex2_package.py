@@ -11,6 +11,7 @@ from typing import Any
 
 import yaml
 
+from ddes.errors import DdesError
 from ddes.grading.course import (
     CourseExercise,
     find_package,
@@ -31,6 +32,7 @@ from ddes.grading.exercises.common import (
     student_logs,
     student_subscriptions,
 )
+from ddes.graph.yamlsafe import load_yaml
 
 __all__ = ["EX2"]
 
@@ -251,8 +253,8 @@ def check_parameters(facts: Facts) -> tuple[float, list[str]]:
         prefix = spec.full_name + "/"
         for cfg in sorted((pkg_dir / "config").glob("*.yaml")):
             try:
-                data = yaml.safe_load(cfg.read_text(encoding="utf-8")[:65536])
-            except yaml.YAMLError:
+                data = load_yaml(cfg.read_text(encoding="utf-8")[:65536])
+            except (yaml.YAMLError, DdesError):  # malformed, or past the loader's bounds
                 continue
             if (isinstance(data, dict) and {"scan_topic", "queue_size"} <= set(data)
                     and all(prefix + k in n.plan.params for k in ("scan_topic", "queue_size"))):

@@ -107,6 +107,7 @@ def parse_script(text: str) -> list[ScriptLine]:
     """The script's lines, each a call, a sleep, or an error that says what is wrong."""
     from ddes.errors import DdesError
     from ddes.graph.names import is_legal_name
+    from ddes.graph.yamlsafe import load_yaml
     from ddes.msg.convert import fill_message_args
     from ddes.msg.registry import get_service_class
 
@@ -139,7 +140,7 @@ def parse_script(text: str) -> list[ScriptLine]:
             continue
         try:
             request = request_class()
-            fill_message_args(request, [yaml.safe_load(a) for a in words[3:]])
+            fill_message_args(request, [load_yaml(a) for a in words[3:]])
         except (DdesError, yaml.YAMLError, ValueError, TypeError) as exc:
             out.append(ScriptLine(n, line, error=f"its arguments do not fill a SetBool request: "
                                                  f"{str(exc)[:120]}"))
