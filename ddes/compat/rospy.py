@@ -66,7 +66,8 @@ __all__ = [
     "logdebug", "logdebug_once", "logdebug_throttle", "logerr", "logerr_once", "logerr_throttle",
     "logfatal", "logfatal_once", "logfatal_throttle", "loginfo", "loginfo_once",
     "loginfo_throttle", "logout", "logwarn", "logwarn_once", "logwarn_throttle", "myargv",
-    "on_shutdown", "resolve_name", "search_param", "set_param", "signal_shutdown", "sleep", "spin",
+    "on_shutdown", "resolve_name", "rostime", "search_param", "set_param", "signal_shutdown",
+    "sleep", "spin",
     "wait_for_message", "wait_for_service",
 ]
 
@@ -230,6 +231,31 @@ def get_rostime() -> Time:
 def get_time() -> float:
     """rospy.get_time."""
     return _time_node().get_time()
+
+
+def is_wallclock() -> bool:
+    """rospy.rostime.is_wallclock: True when this node's ROS time is the wall clock (the kernel
+    clock: no ``/use_sim_time``), False when it follows ``/clock``."""
+    return not _time_node().use_sim_time
+
+
+def wallsleep(duration: float) -> None:
+    """rospy.rostime.wallsleep: block this node for ``duration`` seconds of wall time (rospy's
+    is ``time.sleep``; here the kernel clock, which goes on while ``/clock`` stands still)."""
+    node = _blocking_node("rospy.rostime.wallsleep()")
+    wait(node.wall_sleep(duration), "rospy.rostime.wallsleep()")
+
+
+def _rostime_module() -> Any:
+    import types
+
+    mod = types.ModuleType("rospy.rostime", "rospy.rostime: ROS time and wall time (ddes: the "
+                                            "kernel clock plays the wall clock)")
+    for name, value in (("Time", Time), ("Duration", Duration), ("get_rostime", get_rostime),
+                        ("get_time", get_time), ("is_wallclock", is_wallclock),
+                        ("wallsleep", wallsleep)):
+        setattr(mod, name, value)
+    return mod
 
 
 def sleep(duration: DurationLike) -> None:
@@ -510,3 +536,8 @@ def logerr_once(msg: object, *args: object) -> None:
 
 def logfatal_once(msg: object, *args: object) -> None:
     _log(_FATAL, msg, args, once=True)
+
+
+#: ``rospy.rostime`` (``import rospy; rospy.rostime.wallsleep(1.0)``, ``from rospy.rostime import
+#: wallsleep``): get_rostime, get_time, is_wallclock, wallsleep, Time, Duration.
+rostime = _rostime_module()

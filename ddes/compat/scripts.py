@@ -13,6 +13,8 @@
   AddTwoInts, AddTwoIntsResponse``) to modules of the world's message classes;
 * ``threading`` to :mod:`ddes.compat.threads` (locks, conditions, events and
   threads on greenlets);
+* ``time`` to :mod:`ddes.compat.walltime` (``time.time()`` and ``time.sleep()`` on the
+  kernel clock, which plays the wall clock);
 * ``sys`` to a view of the real module whose ``argv`` is the script's command
   line (``rosrun`` arguments, remappings included, as ROS passes them).
 
@@ -153,6 +155,9 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
     from ddes.compat.threads import module
 
     script_threading = module()
+    from ddes.compat import walltime
+
+    script_time = walltime.module(world)
 
     def script_import(name: str, globals: Any = None, locals: Any = None,  # noqa: A002
                       fromlist: Sequence[str] = (), level: int = 0) -> Any:
@@ -161,7 +166,7 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
             if top == "rospy":
                 from ddes.compat import rospy
 
-                return rospy
+                return rospy.rostime if rest == "rostime" and fromlist else rospy
             if top == "actionlib" and rest not in ("msg", "srv"):
                 from ddes.compat import actionlib
 
@@ -184,6 +189,8 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 return script_sys
             if name == "threading":
                 return script_threading
+            if name == "time":
+                return script_time
             if rest in ("", "msg", "srv") and top not in sys.builtin_module_names:
                 pkg = _message_package(world, top)
                 if pkg is not None:

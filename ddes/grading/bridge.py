@@ -43,7 +43,7 @@ twice is refused; the caller of a refused answer receives an error, and the call
 that ends receive rospy's transport error (the proxy server shuts down with the node).
 
 **Left out** (documented in docs/grading.md): parameters do not cross yet (the child's nodes
-see only the parameters of their command line), nor do subscriptions on ``AnyMsg``, nor do
+see only the parameters of their command line and the grader's ``/use_sim_time``), nor do subscriptions on ``AnyMsg``, nor do
 services advertised by the grader's world toward the student's nodes (student clients see only
 the child's own services).
 """

@@ -274,6 +274,11 @@ def main(argv: list[str] | None = None) -> int:
 
     world = World(seed, wall_budget=None)
     world.log_output = None
+    import json
+
+    # global parameters the grader sets before the student's nodes start (/use_sim_time)
+    for key, value in sorted(json.loads(os.environ.get("DDES_GRADING_PARAMS", "{}")).items()):
+        world.master.params.set_param(key, value)
     bridge = _Bridge(world, out)
     random.seed(seed)
     cwd = os.getcwd()

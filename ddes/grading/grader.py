@@ -111,7 +111,9 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
     until = to_ns(exercise.duration, "duration")
     if prepared is not None:
         scripts = exercise.student_scripts(world, scenario, prepared)
-        sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits)
+        # /use_sim_time crosses into the child, so its nodes follow the /clock the grader forwards
+        params = {"/use_sim_time": True} if world.use_sim_time else {}
+        sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits, params=params)
         lock = Lockstep(world, sandbox)
         outcome = lock.run(until)
         refused = lock.problems

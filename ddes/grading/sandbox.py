@@ -31,6 +31,7 @@ decoded by :func:`ddes.grading.protocol.decode_frame` and validated by the calle
 
 from __future__ import annotations
 
+import json
 import os
 import resource
 import select
@@ -40,9 +41,10 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ddes.errors import GradingError, ProtocolError
 from ddes.grading import protocol
@@ -134,9 +136,12 @@ class Sandbox:
 
     def __init__(self, submission: str | os.PathLike[str], scripts: Sequence[tuple[str, Sequence[str]]],
                  *, seed: int = 0, limits: Limits | None = None, network_namespace: bool = True,
-                 landlock: bool = True, drop_user: bool = True) -> None:
+                 landlock: bool = True, drop_user: bool = True,
+                 params: Mapping[str, Any] | None = None) -> None:
         self.limits = limits or Limits()
         self.seed = seed
+        #: Global parameters the child sets before the student's nodes start (``/use_sim_time``).
+        self.params = dict(params or {})
         self.scripts = [(str(p), [str(a) for a in args]) for p, args in scripts]
         self._root = Path(tempfile.mkdtemp(prefix="ddes-grade-"))
         self.workdir = self._root / "work"
@@ -173,6 +178,8 @@ class Sandbox:
                "PYTHONHASHSEED": "0", "PYTHONDONTWRITEBYTECODE": "1", "LANG": "C.UTF-8",
                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
                "DDES_GRADING_LANDLOCK": "1" if self._landlock else "0"}
+        if self.params:
+            env["DDES_GRADING_PARAMS"] = json.dumps(self.params, sort_keys=True)
         cmd = [sys.executable, "-s", "-P", "-B", "-m", "ddes.grading.child", *argv]
         out = open(self._output_path, "wb")  # noqa: SIM115 - handed to the child, closed below
         enforced = ["rlimits (address space, CPU, file size, open files, processes, no core)",
