@@ -81,6 +81,10 @@ _G = 9.80665
 #: base_link -> base_laser and base_link -> imu_link (x, y, z).
 LASER_OFFSET = (0.20, 0.0, 0.33)
 IMU_OFFSET = (0.2554, -0.02397, 0.1795)
+#: The SMB's wheel joints (sensor_msgs/JointState order), wheel radius and separation (m).
+WHEEL_JOINTS = ("LF_WHEEL_JOINT", "RF_WHEEL_JOINT", "LH_WHEEL_JOINT", "RH_WHEEL_JOINT")
+WHEEL_RADIUS = 0.19
+WHEEL_SEPARATION = 0.57
 _ODOM_POSE_COV = (0.1, 0.001, 0.001, 0.001, 0.001, 0.3)
 _ODOM_TWIST_COV = (0.001, 0.001, 0.001, 0.001, 0.001, 0.03)
 _CRASH_TAU = 0.1
@@ -148,8 +152,8 @@ class Simulator:
     """The deterministic 2D SMB as a node of ``world`` (see the module text).
 
     ``Simulator(world, WorldSpec.load("single_pillar"), x=0, y=0, yaw=0, noise=True)``.
-    Topics: ``cmd_vel`` (in), ``scan``, ``odom``, ``imu/data``, ``/tf``, ``/tf_static``,
-    ``/clock``, and ``ground_truth/odom`` with ``ground_truth=True``; services
+    Topics: ``cmd_vel`` (in), ``scan``, ``odom``, ``imu/data``, ``/tf``, ``/tf_static``, ``/clock``;
+    ``ground_truth/odom``, ``rslidar_points``, ``joint_states`` when asked for; services
     ``~pause_physics``, ``~unpause_physics``, ``~reset_world`` (std_srvs/Empty).
     """
 
@@ -172,6 +176,9 @@ class Simulator:
         ground_truth: bool = False,
         odom_topic: str = "odom",
         paused: bool = False,
+        pointcloud: bool = False,
+        laser_pipeline: str = "direct",
+        joint_states: bool = False,
         limits: RobotLimits = _LIMITS,
         footprint: Footprint = _FOOTPRINT,
     ) -> None:
@@ -181,6 +188,9 @@ class Simulator:
         if imu_rate not in (100, 100.0, 50, 50.0, 25, 25.0, 20, 20.0, 10, 10.0):
             raise DdesValueError(f"imu_rate must divide the 100 Hz physics rate (100, 50, 25, 20 "
                                  f"or 10), got {imu_rate!r}")
+        if laser_pipeline not in ("direct", "smb"):
+            raise DdesValueError(f"laser_pipeline must be 'direct' (/scan from the simulator) or "
+                                 f"'smb' (only /rslidar_points), got {laser_pipeline!r}")
         self.world = world
         self.node = node if node is not None else world.create_node(name)
         self.spec = spec if spec is not None else WorldSpec((), "empty", "")
@@ -213,7 +223,9 @@ class Simulator:
         self._slip_v = _gauss(self._rng_odom, 0.01) if self.noise else 0.0
         self._slip_w = _gauss(self._rng_odom, 0.05) if self.noise else 0.0
         self._gyro_bias = _gauss(self._rng_imu, 0.002) if self.noise else 0.0
-        self._make_io(publish_clock, laser, publish_odom_tf, ground_truth, odom_topic)
+        self._make_io(publish_clock, laser and laser_pipeline == "direct", publish_odom_tf,
+                      ground_truth, odom_topic)
+        self._make_extra_io(laser and (pointcloud or laser_pipeline == "smb"), joint_states)
         node.add_entity(self)
         self._check_free(self._start, "start")
         self._proc = node.process(self._run())
@@ -314,64 +326,52 @@ class Simulator:
         """Stop stepping (the node's shutdown calls this)."""
         self._closed = True
 
-    # -- ROS side -----------------------------------------------------------------------------
-    def _make_io(self, publish_clock: bool, laser: bool, odom_tf: bool, ground_truth: bool,
-                 odom_topic: str) -> None:
+    # -- optional outputs: the SMB's point cloud and wheel joints -------------------------------
+    def _make_extra_io(self, cloud: bool, joints: bool) -> None:
+        """``rslidar_points`` (the scan's valid returns as a cloud, the SMB's VLP-16 topic) and
+        ``joint_states`` (the four wheel joints, turning at the rates that give the reported
+        odometry), each only when asked for: with both off nothing is advertised and nothing
+        is drawn, so the trace is that of a simulator without them.
+        """
         node = self.node
-        twist = get_message_class("geometry_msgs/Twist")
-        odometry = get_message_class("nav_msgs/Odometry")
-        tfm = get_message_class("tf2_msgs/TFMessage")
-        ts = get_message_class("geometry_msgs/TransformStamped")
-        self._Clock = get_message_class("rosgraph_msgs/Clock")
-        self._Odometry = odometry
-        self._Imu = get_message_class("sensor_msgs/Imu")
-        self._LaserScan = get_message_class("sensor_msgs/LaserScan")
-        self._TFMessage = tfm
-        self._TransformStamped = ts
-        self._clock_pub = node.advertise("/clock", self._Clock, queue_size=10) \
-            if publish_clock else None
-        self._odom_pub = node.advertise(odom_topic, odometry, queue_size=10)
-        self._tf_pub = node.advertise("/tf", tfm, queue_size=100) if odom_tf else None
-        self._imu_pub = node.advertise("imu/data", self._Imu, queue_size=10)
-        self._scan_pub = node.advertise("scan", self._LaserScan, queue_size=10) if laser else None
-        self._gt_pub = (node.advertise("ground_truth/odom", odometry, queue_size=10)
-                        if ground_truth else None)
-        self._clock_m = self._Clock()
-        self._odom_m = self._new_odom("odom")
-        self._gt_m = self._new_odom("world")
-        self._imu_m = self._new_imu()
-        self._scan_m = self._new_scan()
-        moving = ts()
-        moving.header.frame_id = "odom"
-        moving.child_frame_id = "base_link"
-        self._tf_m = tfm(transforms=[moving])
-        static = node.advertise("/tf_static", tfm, queue_size=10, latch=True)
-        frames = []
-        for child, (ox, oy, oz) in (("base_laser", LASER_OFFSET), ("imu_link", IMU_OFFSET)):
-            t = ts()
-            t.header.frame_id = "base_link"
-            t.child_frame_id = child
-            t.transform.translation.x, t.transform.translation.y = ox, oy
-            t.transform.translation.z = oz
-            t.transform.rotation.w = 1.0
-            frames.append(t)
-        static.publish(tfm(transforms=frames))
-        node.subscribe("cmd_vel", twist, self._on_cmd_vel, queue_size=1)
-        empty = get_service_class("std_srvs/Empty")
+        self._cloud_pub = self._joints_pub = None
+        if cloud:
+            pc2 = get_message_class("sensor_msgs/PointCloud2")
+            field = get_message_class("sensor_msgs/PointField")
+            self._cloud_pub = node.advertise("rslidar_points", pc2, queue_size=10)
+            m = self._cloud_m = pc2(height=1, point_step=12, is_bigendian=False, is_dense=True)
+            m.header.frame_id = "base_laser"
+            m.fields = [field(name=n, offset=4 * i, datatype=7, count=1)  # FLOAT32
+                        for i, n in enumerate("xyz")]
+        if joints:
+            js = get_message_class("sensor_msgs/JointState")
+            self._joints_pub = node.advertise("joint_states", js, queue_size=10)
+            self._joints_m = js(name=list(WHEEL_JOINTS), effort=[0.0] * 4)
+        self._wheel_pos = [0.0, 0.0, 0.0, 0.0]
+        self._wheel_vel = [0.0, 0.0, 0.0, 0.0]
+        self._lasing = self._scan_pub is not None or self._cloud_pub is not None
 
-        def handler(action: Callable[[], None]) -> Callable[[Message], Any]:
-            def serve(req: Message) -> Any:
-                action()
-                return empty._response_class()
-            return serve
+    def _publish_joints(self, stamp: Time) -> None:
+        m = self._joints_m
+        m.header.stamp = stamp
+        m.position = list(self._wheel_pos)
+        m.velocity = list(self._wheel_vel)
+        self._joints_pub.publish(m)  # type: ignore[union-attr]
 
-        Service(node, "~pause_physics", empty, handler(self.pause))
-        Service(node, "~unpause_physics", empty, handler(self.resume))
-        Service(node, "~reset_world", empty, handler(self.reset))
-
-    def _on_cmd_vel(self, msg: Message) -> None:
-        self._cmd = (float(msg.linear.x), float(msg.angular.z))
-        self._cmd_stamp_ns = self._step * DT_NS
+    def _publish_cloud(self, stamp: Time, ranges: list[float]) -> None:
+        """The valid returns of the scan as x, y, z (= 0) float32 points in base_laser."""
+        dirs = self._laser.dirs
+        xyz: list[float] = []
+        for i, r in enumerate(ranges):
+            if r != _INF and r != -_INF:
+                sa, ca = dirs[i]
+                xyz += (r * ca, r * sa, 0.0)
+        m = self._cloud_m
+        m.header.stamp = stamp
+        m.width = n = len(xyz) // 3
+        m.row_step = 12 * n
+        m.data = struct.pack(f"<{len(xyz)}f", *xyz)
+        self._cloud_pub.publish(m)  # type: ignore[union-attr]
 
     # -- the loop -----------------------------------------------------------------------------
     def _run(self) -> ProcessGenerator:
@@ -474,6 +474,75 @@ class Simulator:
             peak = 1.5707963267948966 * speed / _CRASH_TAU
             self._pulse = (self._step, peak, bx, by, phase)
 
+    # -- ROS side -----------------------------------------------------------------------------
+    def _make_io(self, publish_clock: bool, laser: bool, odom_tf: bool, ground_truth: bool,
+                 odom_topic: str) -> None:
+        node = self.node
+        twist = get_message_class("geometry_msgs/Twist")
+        odometry = get_message_class("nav_msgs/Odometry")
+        tfm = get_message_class("tf2_msgs/TFMessage")
+        ts = get_message_class("geometry_msgs/TransformStamped")
+        self._Clock = get_message_class("rosgraph_msgs/Clock")
+        self._Odometry = odometry
+        self._Imu = get_message_class("sensor_msgs/Imu")
+        self._LaserScan = get_message_class("sensor_msgs/LaserScan")
+        self._TFMessage = tfm
+        self._TransformStamped = ts
+        self._clock_pub = node.advertise("/clock", self._Clock, queue_size=10) \
+            if publish_clock else None
+        self._odom_pub = node.advertise(odom_topic, odometry, queue_size=10)
+        self._tf_pub = node.advertise("/tf", tfm, queue_size=100) if odom_tf else None
+        self._imu_pub = node.advertise("imu/data", self._Imu, queue_size=10)
+        self._scan_pub = node.advertise("scan", self._LaserScan, queue_size=10) if laser else None
+        self._gt_pub = (node.advertise("ground_truth/odom", odometry, queue_size=10)
+                        if ground_truth else None)
+        self._clock_m = self._Clock()
+        self._odom_m = self._new_odom("odom")
+        self._gt_m = self._new_odom("world")
+        self._imu_m = self._new_imu()
+        self._scan_m = self._new_scan()
+        moving = ts()
+        moving.header.frame_id = "odom"
+        moving.child_frame_id = "base_link"
+        self._tf_m = tfm(transforms=[moving])
+        static = node.advertise("/tf_static", tfm, queue_size=10, latch=True)
+        frames = []
+        for child, (ox, oy, oz) in (("base_laser", LASER_OFFSET), ("imu_link", IMU_OFFSET)):
+            t = ts()
+            t.header.frame_id = "base_link"
+            t.child_frame_id = child
+            t.transform.translation.x, t.transform.translation.y = ox, oy
+            t.transform.translation.z = oz
+            t.transform.rotation.w = 1.0
+            frames.append(t)
+        static.publish(tfm(transforms=frames))
+        node.subscribe("cmd_vel", twist, self._on_cmd_vel, queue_size=1)
+        empty = get_service_class("std_srvs/Empty")
+
+        def handler(action: Callable[[], None]) -> Callable[[Message], Any]:
+            def serve(req: Message) -> Any:
+                action()
+                return empty._response_class()
+            return serve
+
+        Service(node, "~pause_physics", empty, handler(self.pause))
+        Service(node, "~unpause_physics", empty, handler(self.resume))
+        Service(node, "~reset_world", empty, handler(self.reset))
+
+    def _on_cmd_vel(self, msg: Message) -> None:
+        self._cmd = (float(msg.linear.x), float(msg.angular.z))
+        self._cmd_stamp_ns = self._step * DT_NS
+
+    def _turn_wheels(self) -> None:
+        """The wheels' rates that give the reported odometry (left, right side), integrated."""
+        half = 0.5 * WHEEL_SEPARATION * self._wm
+        left = (self._vm - half) / WHEEL_RADIUS
+        right = (self._vm + half) / WHEEL_RADIUS
+        self._wheel_vel = [left, right, left, right]
+        pos = self._wheel_pos
+        for i, rate in enumerate(self._wheel_vel):
+            pos[i] += rate * _DT
+
     def _odometry(self) -> None:
         v, w = self._v, self._w
         if self.noise and (v != 0.0 or w != 0.0):
@@ -490,6 +559,8 @@ class Simulator:
             self._oy += vm * s * _DT
             self._oyaw = wrap_angle(self._oyaw + wm * _DT)
         self._vm, self._wm = vm, wm
+        if self._joints_pub is not None:
+            self._turn_wheels()
 
     def _truth_in_odom(self) -> tuple[float, float, float]:
         x0, y0, yaw0 = self._start
@@ -505,10 +576,12 @@ class Simulator:
             self._clock_pub.publish(clock)
         if step % 2 == 0:
             self._publish_odom(stamp)
+            if self._joints_pub is not None:
+                self._publish_joints(stamp)
         if step % self._imu_every == 0:
             self._publish_imu(stamp, step)
         if step % 10 == 0:
-            if self._scan_pub is not None:
+            if self._lasing:
                 self._publish_scan(stamp)
             h = self._hist
             h.t_ns.append(step * DT_NS)
@@ -654,10 +727,13 @@ class Simulator:
         ox, oy, yaw = self.laser_origin()
         raw = self._laser.cast(self._prepared, ox, oy, yaw)
         out = scan_ranges(raw, self._rng_scan if self.noise else None)
-        m = self._scan_m
-        m.header.stamp = stamp
-        m.ranges = out
-        self._scan_pub.publish(m)  # type: ignore[union-attr]
+        if self._scan_pub is not None:
+            m = self._scan_m
+            m.header.stamp = stamp
+            m.ranges = out
+            self._scan_pub.publish(m)
+        if self._cloud_pub is not None:
+            self._publish_cloud(stamp, out)
 
 
 _INF = float("inf")
