@@ -26,6 +26,7 @@ from ddes.errors import DdesValueError
 from ddes.msg import get_message_class
 from ddes.nodes import NodeType
 from ddes.sim import Simulator, WorldSpec
+from ddes.sim.frames import robot_frames
 from ddes.sim.pointcloud import cloud_to_ranges, cloud_xyz
 
 if TYPE_CHECKING:
@@ -122,4 +123,6 @@ NODES = {
     "pointcloud_to_laserscan": NodeType(
         pointcloud_to_laserscan, name="pointcloud_to_laserscan",
         doc="sensor_msgs/PointCloud2 (cloud_in) to sensor_msgs/LaserScan (scan), as noetic's"),
+    "robot_frames": NodeType(robot_frames, name="robot_state_publisher",
+                             doc="the SMB's fixed frames on latched /tf_static (ddes.sim.frames)"),
 }
