@@ -3,9 +3,11 @@
 * ``ddes grade list``: the exercises and their criteria;
 * ``ddes grade EXERCISE SUBMISSION [--results FILE] [--junit FILE] [--out DIR] [--seed N]
   [--public] [--fail-under PCT]``: grade one folder, ``.zip`` or notebook; prints the report;
-* ``ddes grade batch EXERCISE DIR --out OUT [--workers N | --scheduler ADDRESS]``: grade every
-  submission in ``DIR``, one task per (submission, scenario), serially or on Dask distributed
-  (``OUT/<submission>/results.json`` and ``OUT/summary.csv``, the same bytes for any N);
+* ``ddes grade batch EXERCISE DIR --out OUT [--workers N [--retries R] | --scheduler ADDRESS]
+  [--resume]``: grade every submission in ``DIR``, one task per (submission, scenario), serially
+  or on Dask distributed (``OUT/<submission>/results.json`` and ``OUT/summary.csv``, the same
+  bytes for any N); each submission's files are written as soon as it is graded, and
+  ``--resume`` keeps those of an interrupted batch (``OUT/<submission>/batch.json``);
 * ``replay``, ``sweep``, ``sensitivity`` and the hidden-scenario key (``--secret-file``,
   ``--student``, ``--attempt``): ddes/cli/grade_tools.py.
 
@@ -22,15 +24,15 @@ import io
 import re
 import sys
 from pathlib import Path
-from typing import Any
 
-from ddes.cli.grade_tools import TOOLS, add_arguments, hidden_key
+from ddes.cli.grade_tools import TOOLS, add_arguments, hidden_key, progress_stream
 from ddes.errors import GradingError
 
 __all__ = ["register", "run_grade"]
 
 _USAGE = ("ddes grade list | ddes grade EXERCISE SUBMISSION [options] | "
-          "ddes grade batch EXERCISE DIR --out OUT [--workers N | --scheduler ADDRESS] | "
+          "ddes grade batch EXERCISE DIR --out OUT [--workers N | --scheduler ADDRESS] "
+          "[--resume] | "
           "ddes grade replay EXERCISE SUBMISSION --scenario NAME | "
           "ddes grade sweep EXERCISE SUBMISSION --seeds A:B | ddes grade sensitivity EXERCISE")
 
@@ -58,10 +60,18 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--mem", default=None, metavar="SIZE",
                    help="address-space limit of the student's process (e.g. 512M; default 768M)")
     p.add_argument("--workers", type=int, default=0, metavar="N",
-                   help="batch: grade on a Dask LocalCluster of N processes (default 0: "
-                        "serially in this process; needs pip install \"ddes[batch]\")")
+                   help="batch, sweep, sensitivity: grade on a Dask LocalCluster of N processes "
+                        "(default 0: serially in this process; needs pip install "
+                        "\"ddes[batch]\")")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="batch: grade on the existing Dask cluster of this scheduler")
+                   help="batch, sweep, sensitivity: grade on the existing Dask cluster of this "
+                        "scheduler")
+    p.add_argument("--retries", type=int, default=None, metavar="R",
+                   help="with --workers N: run a task whose worker died up to R more times "
+                        "(default 3), then report a grader infrastructure error")
+    p.add_argument("--resume", action="store_true",
+                   help="batch: keep the submissions OUT already holds finished grades of "
+                        "(same submission, exercise and options); grade the rest")
     add_arguments(p)
     p.set_defaults(func=run_grade)
 
@@ -159,9 +169,11 @@ def _safe_name(name: str) -> str:
 
 def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
            limits: object) -> int:
-    from ddes.grading.batch import assemble, run_tasks, task_key, tasks_of
+    import json
+
+    from ddes.grading.batch import Job, fingerprint, grade_all
     from ddes.grading.exercise import Exercise
-    from ddes.grading.report import write_atomic
+    from ddes.grading.report import GradeReport, write_atomic
     from ddes.grading.sandbox import Limits
 
     assert isinstance(exercise, Exercise) and isinstance(limits, Limits)
@@ -173,48 +185,70 @@ def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
                      if p.is_dir() or p.suffix in (".zip", ".ipynb"))
     ids = [c.id for c in exercise.criteria]
     used: set[str] = set()
-    # (entry, folder name, key, scenarios, its first task, its number of tasks or what failed)
-    plan: list[tuple[Path, str, Any, list[Any], int, int | str]] = []
-    tasks: list[Any] = []
-    keys: list[str] = []
-    for entry in entries:
+    rows: list[list[str] | None] = [None] * len(entries)
+    names: list[str] = []
+    errors: dict[int, str] = {}
+    jobs: list[Job] = []
+    where: list[tuple[int, str | None]] = []  # (entry, fingerprint) of each job
+    kept = 0
+    for i, entry in enumerate(entries):
         name = _safe_name(entry.name)
         while name in used or name == "summary.csv":
             name += "_"
         used.add(name)
+        names.append(name)
         try:
             key = hidden_key(args, entry)
-            scenarios, mine = tasks_of(exercise, entry, seed=args.seed, public=args.public,
-                                       limits=limits, key=key)
         except Exception as exc:  # noqa: BLE001 - one broken grade never ends the batch
-            plan.append((entry, name, None, [], -1, f"{type(exc).__name__}: {exc}"))
+            errors[i] = f"{type(exc).__name__}: {exc}"
             continue
-        plan.append((entry, name, key, scenarios, len(tasks), len(mine)))
-        keys += [task_key(t, name, scenarios[t.index].name if t.index is not None else "")
-                 for t in mine]
-        tasks += mine
-    results = run_tasks(tasks, keys, workers=args.workers, scheduler=args.scheduler)
-    rows: list[list[str]] = []
-    for entry, name, key, scenarios, first, count in plan:
-        got = [count] if isinstance(count, str) else results[first:first + count]
-        broken = [r for r in got if isinstance(r, str)]
-        if broken:
-            rows.append([entry.name, "", f"{exercise.max_points:g}", "",
-                         *[""] * len(ids), f"grader infrastructure error: {broken[0]}"])
-            print(f"{entry.name}: grader infrastructure error: {broken[0]}", file=sys.stderr)
-            continue
-        report = assemble(exercise, str(entry), scenarios,
-                          [r for r in got if not isinstance(r, str)],
-                          seed=args.seed, public=args.public, key=key)
-        _write_all(report, out / name)
-        by_id = {c.id: c.points for c in report.criteria}
-        rows.append([entry.name, f"{report.score:g}", f"{report.max_score:g}",
-                     f"{report.percent:.1f}", *[f"{by_id[i]:g}" for i in ids],
-                     "; ".join(report.problems)[:500]])
-        print(f"{entry.name}: {report.score:g}/{report.max_score:g}")
+        job = Job(name, entry, seed=args.seed, public=args.public, key=key)
+        mark = fingerprint(exercise, job, limits)
+        marker = out / name / "batch.json"
+        if args.resume and mark is not None and marker.is_file():
+            try:
+                done = json.loads(marker.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                done = None
+            if isinstance(done, dict) and done.get("fingerprint") == mark:
+                rows[i] = [str(x) for x in done["summary"]]
+                kept += 1
+                continue
+        if marker.is_file():
+            marker.unlink()  # graded again: this folder is not finished until it is rewritten
+        jobs.append(job)
+        where.append((i, mark))
+    if args.resume:
+        print(f"resuming: {kept} finished submission(s) kept, {len(jobs)} to grade")
+
+    def finished(j: int, got: GradeReport | str) -> None:
+        i, mark = where[j]
+        if isinstance(got, str):
+            errors[i] = got
+            return
+        _write_all(got, out / names[i])
+        by_id = {c.id: c.points for c in got.criteria}
+        row = [entries[i].name, f"{got.score:g}", f"{got.max_score:g}", f"{got.percent:.1f}",
+               *[f"{by_id[c]:g}" for c in ids], "; ".join(got.problems)[:500]]
+        rows[i] = row
+        if mark is not None:  # last: its presence says the folder is finished
+            write_atomic(out / names[i] / "batch.json",
+                         json.dumps({"fingerprint": mark, "summary": row}, indent=1) + "\n")
+
+    grade_all(exercise, jobs, limits=limits, workers=args.workers, scheduler=args.scheduler,
+              retries=args.retries, on_report=finished, progress=progress_stream())
+    for i, entry in enumerate(entries):
+        if i in errors:
+            rows[i] = [entry.name, "", f"{exercise.max_points:g}", "", *[""] * len(ids),
+                       f"grader infrastructure error: {errors[i]}"]
+            print(f"{entry.name}: grader infrastructure error: {errors[i]}", file=sys.stderr)
+        else:
+            row = rows[i]
+            assert row is not None
+            print(f"{entry.name}: {row[1]}/{row[2]}")
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(["submission", "score", "max_score", "percent", *ids, "problems"])
-    writer.writerows(rows)
+    writer.writerows(r for r in rows if r is not None)
     write_atomic(out / "summary.csv", buf.getvalue())
     return 0

@@ -6,6 +6,9 @@
   score over seeds;
 * ``ddes grade sensitivity EXERCISE [--solutions DIR] [--seed N]``: the mutants' kill matrix;
 
+both on the engine of ``ddes grade batch`` (``--workers N``, ``--scheduler ADDRESS``,
+``--retries R``: one task per (seed or mutant, scenario));
+
 and the hidden-scenario key of every grade: ``--secret-file FILE`` (or ``$DDES_GRADE_SECRET``),
 ``--student ID`` (default: the submission's name), ``--attempt K`` (default 0).
 """
@@ -21,7 +24,7 @@ from typing import Any
 
 from ddes.errors import GradingError
 
-__all__ = ["TOOLS", "add_arguments", "hidden_key"]
+__all__ = ["TOOLS", "add_arguments", "hidden_key", "progress_stream"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -44,6 +47,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "name)")
     p.add_argument("--attempt", type=int, default=0, metavar="K",
                    help="the attempt hidden scenarios derive from (default 0)")
+
+
+def progress_stream() -> Any:
+    """Where batch, sweep and sensitivity draw their progress bar: standard error when it is a
+    terminal (else nowhere)."""
+    return sys.stderr if sys.stderr.isatty() else None
+
+
+def _engine(args: argparse.Namespace) -> dict[str, Any]:
+    """The grading engine's options (ddes.grading.batch.grade_all): serial or on Dask."""
+    if args.workers and args.scheduler:
+        raise GradingError("give --workers N or --scheduler ADDRESS, not both")
+    return {"workers": args.workers, "scheduler": args.scheduler, "retries": args.retries,
+            "bar": progress_stream()}
 
 
 def hidden_key(args: argparse.Namespace, submission: str | Path) -> Any:
@@ -99,12 +116,16 @@ def _sweep(registry: Any, words: list[str], args: argparse.Namespace, limits: An
                            "[--figure FILE] [--fail-under PCT]")
     exercise = registry.get(words[0])
     result = sweep(exercise, words[1], _seeds(args.seeds), public=args.public, limits=limits,
-                   key=hidden_key(args, words[1]), progress=lambda line: print(line,
-                                                                               file=sys.stderr))
+                   key=hidden_key(args, words[1]),
+                   progress=lambda line: print(line, file=sys.stderr), **_engine(args))
     sys.stdout.write(result.to_text(fail_under=args.fail_under))
     if args.figure:
         result.figure().savefig(args.figure, dpi=100)
         print(f"wrote histogram: {args.figure}")
+    if result.errors:
+        print(f"{len(result.errors)} seed(s) not graded: grader infrastructure error",
+              file=sys.stderr)
+        return 1
     if args.fail_under is not None and result.below(args.fail_under):
         print(f"{len(result.below(args.fail_under))} seed(s) below --fail-under "
               f"{args.fail_under:g} %", file=sys.stderr)
@@ -119,7 +140,7 @@ def _sensitivity(registry: Any, words: list[str], args: argparse.Namespace, limi
         raise GradingError("usage: ddes grade sensitivity EXERCISE [--solutions DIR] [--seed N]")
     exercise = registry.get(words[0])
     result = sensitivity(exercise, Path(args.solutions), seed=args.seed, limits=limits,
-                         progress=lambda line: print(line, file=sys.stderr))
+                         progress=lambda line: print(line, file=sys.stderr), **_engine(args))
     sys.stdout.write(result.to_text())
     return 0 if result.ok else 1
 

@@ -9,12 +9,18 @@ gives (tests/grading/test_batch_dask.py checks they agree), with ``execution_tim
 files carry no wall time, so they are byte-identical for any number of workers.
 
 :func:`run_tasks` runs the tasks in-process (``workers=0``) or on a Dask cluster: a
-``LocalCluster`` of ``workers`` processes of one thread each, or the scheduler at ``scheduler``.
-Each task has an explicit key (:func:`task_key`), so submitting it again is idempotent, and the
-results are taken future by future in input order.  A task that raises — or whose worker died
-past Dask's retry limit (``KilledWorker``) — is that one task's failure, reported by its text;
-the others are kept.  ``distributed`` is imported here only, and only when a cluster is asked
-for (the ``batch`` extra: ``pip install "ddes[batch]"``).
+``LocalCluster`` of ``workers`` processes of one thread each (one task per worker at a time,
+``worker-saturation`` 1.0), or the scheduler at ``scheduler``.  Each task has an explicit key
+(:func:`task_key`), so submitting it again is idempotent; results are taken as they complete
+(``on_result``) and returned in input order.  A task that raises — or whose worker died past
+Dask's retry limit (``KilledWorker`` after ``allowed-failures`` = ``retries`` deaths) — is that
+one task's failure, reported by its text; the others are kept.  :func:`grade_all` is the engine
+of ``ddes grade batch``, ``sweep`` and ``sensitivity``: it turns :class:`Job` s (one submission,
+seed and key each) into tasks and folds each job's outcomes into its report as soon as they are
+all in (``on_report``), which is what lets an interrupted batch keep its finished submissions.
+:func:`fingerprint` names what a finished grade depends on, so ``--resume`` can keep it.
+``distributed`` is imported here only, and only when a cluster is asked for (the ``batch``
+extra: ``pip install "ddes[batch]"``).
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TextIO
 
 import ddes
 from ddes.errors import GradingError, SubmissionError
@@ -42,7 +49,8 @@ from ddes.grading.sandbox import Limits
 from ddes.grading.scenarios import HiddenKey, select_scenarios
 from ddes.grading.submission import prepare
 
-__all__ = ["ScenarioOutcome", "Task", "assemble", "grade_scenario", "run_tasks", "task_key"]
+__all__ = ["Job", "Progress", "ScenarioOutcome", "Task", "assemble", "fingerprint", "grade_all",
+           "grade_scenario", "run_tasks", "task_key"]
 
 #: What ``--workers N`` without the extra says.
 MISSING = ('--workers/--scheduler grade on Dask distributed, which is not installed: '
@@ -174,46 +182,217 @@ def assemble(exercise: Exercise, shown: str, scenarios: Sequence[Scenario],
     return report
 
 
+class Progress:
+    """A text progress bar of a batch's tasks on ``stream`` (none when ``stream`` is None): the
+    count of finished tasks only, no wall time, redrawn in place with a carriage return."""
+
+    WIDTH = 30
+
+    def __init__(self, total: int, stream: TextIO | None, what: str = "tasks") -> None:
+        self.total, self.done, self.what = total, 0, what
+        self.stream = stream if total else None
+        self._draw()
+
+    def _draw(self) -> None:
+        if self.stream is None:
+            return
+        full = self.WIDTH * self.done // self.total
+        self.stream.write(f"\rgrading [{'#' * full}{'.' * (self.WIDTH - full)}] "
+                          f"{self.done}/{self.total} {self.what}")
+        self.stream.flush()
+
+    def step(self) -> None:
+        self.done += 1
+        self._draw()
+
+    def close(self) -> None:
+        if self.stream is not None:
+            self.stream.write("\n")
+            self.stream.flush()
+            self.stream = None
+
+
+def _failure(exc: BaseException, retries: int | None) -> str:
+    """The text of one task's failure; a ``KilledWorker`` without the worker's address, so the
+    text is the same on every run."""
+    if type(exc).__name__ == "KilledWorker":
+        limit = ("the cluster's distributed.scheduler.allowed-failures" if retries is None
+                 else f"distributed.scheduler.allowed-failures = {retries}")
+        return (f"KilledWorker: every worker that ran this task died, past the retry limit "
+                f"({limit})")
+    return f"{type(exc).__name__}: {exc}"
+
+
 def run_tasks(tasks: Sequence[Task], keys: Sequence[str], *, workers: int = 0,
-              scheduler: str | None = None,
+              scheduler: str | None = None, retries: int | None = None,
+              on_result: Callable[[int, ScenarioOutcome | str], None] | None = None,
+              progress: TextIO | None = None,
               say: Callable[[str], None] = print) -> list[ScenarioOutcome | str]:
     """Each task's outcome, in input order, or the text of its failure (an exception in the
-    task, or ``KilledWorker`` past Dask's retries).  ``workers=0`` and no ``scheduler``: in this
-    process, one after the other."""
+    task, or ``KilledWorker`` past the retries).  ``workers=0`` and no ``scheduler``: in this
+    process, one after the other.  ``retries``: how many times a task whose worker died is run
+    again (Dask's ``allowed-failures``; default 3) on the ``LocalCluster`` this starts.
+    ``on_result(index, outcome)`` is called as each task finishes, in the order they finish."""
     if workers < 0:
         raise GradingError(f"--workers {workers}: give 0 (serial) or a number of processes")
+    if retries is not None and retries < 0:
+        raise GradingError(f"--retries {retries}: give a number of retries >= 0")
+    if len(set(keys)) != len(keys):
+        raise GradingError("two tasks of the batch have the same key: give each submission "
+                           "its own name")
+    results: list[ScenarioOutcome | str | None] = [None] * len(tasks)
+    bar = Progress(len(tasks), progress)
+
+    def record(i: int, outcome: ScenarioOutcome | str) -> None:
+        results[i] = outcome
+        bar.step()
+        if on_result is not None:
+            on_result(i, outcome)
+
     if not workers and not scheduler:
-        results: list[ScenarioOutcome | str] = []
-        for task in tasks:
-            try:
-                results.append(grade_scenario(task))
-            except Exception as exc:  # noqa: BLE001 - one broken task never ends the batch
-                results.append(f"{type(exc).__name__}: {exc}")
-        return results
+        try:
+            for i, task in enumerate(tasks):
+                try:
+                    outcome: ScenarioOutcome | str = grade_scenario(task)
+                except Exception as exc:  # noqa: BLE001 - one broken task never ends the batch
+                    outcome = _failure(exc, retries)
+                record(i, outcome)
+        finally:
+            bar.close()
+        return [r for r in results if r is not None]
     try:
-        from distributed import Client, LocalCluster
+        import dask
+        from distributed import Client, LocalCluster, as_completed
     except ImportError:
+        bar.close()
         raise GradingError(MISSING) from None
+    if scheduler and retries is not None:
+        bar.close()
+        raise GradingError("--retries sets the retry limit of the LocalCluster that --workers N "
+                           "starts; a cluster joined with --scheduler keeps its scheduler's "
+                           "distributed.scheduler.allowed-failures")
     cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0")
-        client = Client(cluster)
     try:
-        if client.dashboard_link:
-            say(f"Dask dashboard: {client.dashboard_link}")
-        futures = [client.submit(grade_scenario, task, key=k, pure=False)
-                   for task, k in zip(tasks, keys, strict=True)]
-        results = []
-        for future in futures:
-            try:
-                results.append(future.result())
-            except Exception as exc:  # noqa: BLE001 - a task's failure, a dead worker's too
-                results.append(f"{type(exc).__name__}: {exc}")
-        return results
+        if scheduler:
+            client = Client(scheduler)
+        else:
+            config: dict[str, object] = {"distributed.scheduler.worker-saturation": 1.0}
+            if retries is not None:
+                config["distributed.scheduler.allowed-failures"] = retries
+            with dask.config.set(config):
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=":0")
+            client = Client(cluster)
+        try:
+            if client.dashboard_link:
+                say(f"Dask dashboard: {client.dashboard_link}")
+            futures = [client.submit(grade_scenario, task, key=k, pure=False)
+                       for task, k in zip(tasks, keys, strict=True)]
+            index = {k: i for i, k in enumerate(keys)}
+            for future in as_completed(futures):
+                try:
+                    outcome = future.result()
+                except Exception as exc:  # noqa: BLE001 - a task's failure, a dead worker's too
+                    outcome = _failure(exc, retries)
+                record(index[future.key], outcome)
+                future.release()
+        finally:
+            client.close()
     finally:
-        client.close()
+        bar.close()
         if cluster is not None:
             cluster.close()
+    return [r for r in results if r is not None]
+
+
+@dataclass(frozen=True)
+class Job:
+    """One submission's grade: ``name`` (unique in the batch: it names the tasks' keys), the
+    path, the seed, ``public`` and the hidden-scenario key."""
+
+    name: str
+    submission: Path
+    seed: int = 0
+    public: bool = False
+    key: HiddenKey | None = None
+
+
+def grade_all(exercise: Exercise, jobs: Sequence[Job], *, limits: Limits | None = None,
+              workers: int = 0, scheduler: str | None = None, retries: int | None = None,
+              on_report: Callable[[int, GradeReport | str], None] | None = None,
+              progress: TextIO | None = None,
+              say: Callable[[str], None] = print) -> list[GradeReport | str]:
+    """Grade every job, one task per (submission, scenario) through :func:`run_tasks`; returns
+    each job's report (``execution_time`` 0) or the text of its grader infrastructure error, in
+    job order.  ``on_report(index, report or error)`` is called as soon as a job's tasks are all
+    done, in the order jobs finish."""
+    tasks: list[Task] = []
+    keys: list[str] = []
+    owner: list[int] = []
+    plans: list[tuple[list[Scenario], int, int] | str] = []
+    for j, job in enumerate(jobs):
+        try:
+            scenarios, mine = tasks_of(exercise, job.submission, seed=job.seed,
+                                       public=job.public, limits=limits, key=job.key)
+        except Exception as exc:  # noqa: BLE001 - one broken grade never ends the batch
+            plans.append(f"{type(exc).__name__}: {exc}")
+            continue
+        plans.append((scenarios, len(tasks), len(mine)))
+        keys += [task_key(t, job.name, scenarios[t.index].name if t.index is not None else "")
+                 for t in mine]
+        tasks += mine
+        owner += [j] * len(mine)
+    outcomes: list[ScenarioOutcome | str | None] = [None] * len(tasks)
+    left = [0 if isinstance(p, str) else p[2] for p in plans]
+    done: list[GradeReport | str | None] = [None] * len(jobs)
+
+    def finish(j: int) -> None:
+        plan, job = plans[j], jobs[j]
+        got: GradeReport | str
+        if isinstance(plan, str):
+            got = plan
+        else:
+            scenarios, first, count = plan
+            mine = outcomes[first:first + count]
+            broken = [o for o in mine if isinstance(o, str)]
+            got = broken[0] if broken else assemble(
+                exercise, str(job.submission), scenarios,
+                [o for o in mine if isinstance(o, ScenarioOutcome)],
+                seed=job.seed, public=job.public, key=job.key)
+        done[j] = got
+        if on_report is not None:
+            on_report(j, got)
+
+    def on_result(i: int, outcome: ScenarioOutcome | str) -> None:
+        outcomes[i] = outcome
+        left[owner[i]] -= 1
+        if not left[owner[i]]:
+            finish(owner[i])
+
+    for j, plan in enumerate(plans):
+        if isinstance(plan, str):
+            finish(j)
+    run_tasks(tasks, keys, workers=workers, scheduler=scheduler, retries=retries,
+              on_result=on_result, progress=progress, say=say)
+    return [d for d in done if d is not None]
+
+
+def fingerprint(exercise: Exercise, job: Job, limits: Limits | None) -> str | None:
+    """What a finished grade of ``job`` depends on, hashed: the exercise (and its instructor's
+    file), the ddes version, the submission's content, seed, ``public``, the limits and the
+    hidden key (the secret by its hash).  None when the submission cannot be read (it is then
+    always graded again)."""
+    tmp = Path(tempfile.mkdtemp(prefix="ddes-fingerprint-"))
+    try:
+        content = prepare(job.submission, tmp / "submission")
+    except SubmissionError:
+        return None
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    origin = (hashlib.sha256(Path(exercise.origin).read_bytes()).hexdigest()
+              if exercise.origin else "")
+    key = None if job.key is None else [hashlib.sha256(job.key.secret).hexdigest(),
+                                        job.key.student, job.key.attempt]
+    what = json.dumps([exercise.id, ddes.__version__, origin, content, job.seed, job.public,
+                       repr(limits), key])
+    return hashlib.sha256(what.encode()).hexdigest()

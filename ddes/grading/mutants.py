@@ -17,9 +17,12 @@ lines exactly as written, no fuzz, no offset; new and deleted files through ``/d
 diff that does not apply is a :class:`~ddes.errors.GradingError` naming the mutant, the file and
 the line.  :func:`sensitivity` grades the reference and every mutant (each applied to a temporary
 copy of the solution, ``mutants/`` left out) and builds the kill matrix: rows mutants, columns
-criteria, cells points lost.  It fails when the reference loses points, a bug mutant survives (a
+criteria, cells points lost; they are graded on the engine of ``ddes grade batch``
+(:func:`~ddes.grading.batch.grade_all`: one task per (mutant, scenario), serially or on Dask).
+It fails when the reference loses points, a bug mutant survives (a
 criterion of its ``loses`` keeps all its points), a bug mutant loses points outside its
-``loses`` (the grader is not specific), or an equivalent mutant loses anything.
+``loses`` (the grader is not specific), an equivalent mutant loses anything, or a row could not
+be graded (a grader infrastructure error).
 """
 
 from __future__ import annotations
@@ -30,15 +33,16 @@ import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
+from typing import TextIO
 
 from ddes.errors import GradingError
+from ddes.grading.batch import Job, grade_all
 from ddes.grading.exercise import Exercise
-from ddes.grading.grader import grade
 from ddes.grading.report import GradeReport
 from ddes.grading.sandbox import Limits
 
 __all__ = ["Mutant", "SensitivityResult", "apply_diff", "load_mutants", "sensitivity",
-           "solution_dir"]
+           "solution_dir", "write_subjects"]
 
 KINDS = ("bug", "equivalent")
 _HUNK = re.compile(r"@@ -(\d+)(?:,(\d+))? \+(\d+)(?:,(\d+))? @@")
@@ -241,6 +245,21 @@ def _copy_solution(solution: Path, dest: Path) -> None:
     shutil.copytree(solution, dest, ignore=shutil.ignore_patterns("mutants", "__pycache__"))
 
 
+def write_subjects(solution: Path, mutants: list[Mutant],
+                   dest: Path) -> list[tuple[str, str, tuple[str, ...], Path]]:
+    """Write the reference (``dest/reference``) and each mutant (``dest/mutants/<name>``) as
+    submissions; ``(name, kind, loses, folder)`` of each, the reference first."""
+    _copy_solution(solution, dest / "reference")
+    out: list[tuple[str, str, tuple[str, ...], Path]] = [
+        ("reference", "reference", (), dest / "reference")]
+    for m in mutants:
+        folder = dest / "mutants" / m.name
+        _copy_solution(solution, folder)
+        apply_diff(folder, m.diff.read_text(encoding="utf-8"), m.name)
+        out.append((m.name, m.kind, m.loses, folder))
+    return out
+
+
 @dataclass
 class Row:
     """One row of the kill matrix: a mutant (or the reference) and the points it lost."""
@@ -308,33 +327,42 @@ def _judge(row: Row, criteria: list[str]) -> None:
 
 def sensitivity(exercise: Exercise, solutions: Path, *, seed: int = 0,
                 limits: Limits | None = None,
-                progress: Callable[[str], None] | None = None) -> SensitivityResult:
+                progress: Callable[[str], None] | None = None, workers: int = 0,
+                scheduler: str | None = None, retries: int | None = None,
+                bar: TextIO | None = None) -> SensitivityResult:
     """Grade the reference and every mutant of ``solutions/<exercise id>/`` (see the module
-    text); the mutants' diffs are all applied before any grading, so a broken diff fails fast."""
+    text); the mutants' diffs are all applied before any grading, so a broken diff fails fast.
+    ``workers``, ``scheduler``, ``retries``: see :func:`~ddes.grading.batch.run_tasks`."""
     solution = solution_dir(solutions, exercise)
     mutants = load_mutants(solution, exercise)
     criteria = [c.id for c in exercise.criteria]
     result = SensitivityResult(exercise=exercise.id, criteria=criteria, seed=seed)
     tmp = Path(tempfile.mkdtemp(prefix="ddes-mutants-"))
     try:
-        subjects: list[tuple[str, str, tuple[str, ...], Path]] = [
-            ("reference", "reference", (), tmp / "reference")]
-        _copy_solution(solution, tmp / "reference")
-        for m in mutants:
-            dest = tmp / "mutants" / m.name
-            _copy_solution(solution, dest)
-            apply_diff(dest, m.diff.read_text(encoding="utf-8"), m.name)
-            subjects.append((m.name, m.kind, m.loses, dest))
-        for name, kind, loses, folder in subjects:
-            report = grade(exercise, folder, seed=seed, limits=limits)
-            row = Row(name=f"({name})" if kind == "reference" else name, kind=kind,
-                      lost={c.id: float(round(c.max_points - c.points, 4))
-                            for c in report.criteria},
-                      expected=tuple(loses), report=report)
-            _judge(row, criteria)
-            result.rows.append(row)
+        subjects = write_subjects(solution, mutants, tmp)
+        rows: list[Row | None] = [None] * len(subjects)
+
+        def judged(j: int, report: GradeReport | str) -> None:
+            name, kind, loses, _ = subjects[j]
+            row = Row(name=f"({name})" if kind == "reference" else name, kind=kind, lost={},
+                      expected=tuple(loses))
+            if isinstance(report, str):
+                row.ok, row.verdict = False, f"grader infrastructure error: {report}"
+            else:
+                row.report = report
+                row.lost = {c.id: float(round(c.max_points - c.points, 4))
+                            for c in report.criteria}
+                _judge(row, criteria)
+            rows[j] = row
             if progress is not None:
-                progress(f"{row.name}: {report.score:g}/{report.max_score:g} {row.verdict}")
+                score = ("" if isinstance(report, str)
+                         else f"{report.score:g}/{report.max_score:g} ")
+                progress(f"{row.name}: {score}{row.verdict}")
+
+        jobs = [Job(name, folder, seed=seed) for name, _, _, folder in subjects]
+        grade_all(exercise, jobs, limits=limits, workers=workers, scheduler=scheduler,
+                  retries=retries, on_report=judged, progress=bar)
+        result.rows = [r for r in rows if r is not None]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return result

@@ -3,8 +3,10 @@
 On the reference solution the bar is **zero false failures** (every seed at full marks): a seed
 where the reference loses points is a flaw of the grader or of the solution, never a student's.
 On a student's submission the distribution shows whether a controller is robust or lucky.
-:func:`sweep` grades each seed with :func:`~ddes.grading.grade` (the same scenarios, the same
-digests as a plain grade of that seed); :class:`SweepResult` prints min/median/max, a text
+:func:`sweep` grades each seed on the engine of ``ddes grade batch``
+(:func:`~ddes.grading.batch.grade_all`: one task per (seed, scenario), serially or on Dask; the
+same scenarios, digests and scores as a plain grade of that seed, ``execution_time`` 0; a seed
+whose task failed is listed as a grader infrastructure error); :class:`SweepResult` prints min/median/max, a text
 histogram and every seed below full marks with its replay command, and draws the histogram as a
 :class:`~ddes.display.figure.DisplayFigure`.
 """
@@ -14,10 +16,10 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
+from ddes.grading.batch import Job, grade_all
 from ddes.grading.exercise import Exercise
-from ddes.grading.grader import grade
 from ddes.grading.report import GradeReport
 from ddes.grading.sandbox import Limits
 from ddes.grading.scenarios import HiddenKey
@@ -65,6 +67,8 @@ class SweepResult:
     max_score: float
     #: ``(seed, report)``, in seed order.
     grades: list[tuple[int, GradeReport]] = field(default_factory=list)
+    #: ``(seed, text)`` of the seeds whose grade failed (grader infrastructure errors).
+    errors: list[tuple[int, str]] = field(default_factory=list)
 
     @property
     def scores(self) -> list[float]:
@@ -84,10 +88,11 @@ class SweepResult:
     def to_text(self, fail_under: float | None = None) -> str:
         seeds = [s for s, _ in self.grades]
         scores = self.scores
-        out = [f"{self.exercise} — {self.submission}: {len(seeds)} seed(s), "
-               f"{seeds[0]}..{seeds[-1]}",
-               f"score min {min(scores):g}  median {_median(scores):g}  max {max(scores):g}  "
-               f"(of {self.max_score:g})"]
+        out = [f"{self.exercise} — {self.submission}: {len(seeds)} seed(s)"
+               + (f", {seeds[0]}..{seeds[-1]}" if seeds else "")]
+        if scores:
+            out.append(f"score min {min(scores):g}  median {_median(scores):g}  "
+                       f"max {max(scores):g}  (of {self.max_score:g})")
         out += histogram(self.percents)
         failed = self.failures()
         out.append(f"below full marks: {len(failed)} of {len(seeds)} seed(s)")
@@ -97,6 +102,8 @@ class SweepResult:
                 if not c.passed:
                     out.append(f"    {c.id} {c.points:g}/{c.max_points:g}  replay: {c.replay}")
             out += [f"    problem: {p}" for p in r.problems]
+        for seed, text in self.errors:
+            out.append(f"  seed {seed}: grader infrastructure error: {text}")
         if fail_under is not None:
             out.append(f"below --fail-under {fail_under:g} %: {len(self.below(fail_under))} "
                        "seed(s)")
@@ -125,13 +132,29 @@ class SweepResult:
 
 def sweep(exercise: Exercise, submission: str | Path, seeds: Sequence[int] | range, *,
           public: bool = False, limits: Limits | None = None, key: HiddenKey | None = None,
-          progress: Callable[[str], None] | None = None) -> SweepResult:
-    """Grade ``submission`` once per seed in ``seeds``."""
+          progress: Callable[[str], None] | None = None, workers: int = 0,
+          scheduler: str | None = None, retries: int | None = None,
+          bar: TextIO | None = None) -> SweepResult:
+    """Grade ``submission`` once per seed in ``seeds`` (``workers``, ``scheduler``,
+    ``retries``: see :func:`~ddes.grading.batch.run_tasks`; ``progress`` gets a line per seed
+    as it finishes, ``bar`` draws the progress bar)."""
+    seeds = list(seeds)
     result = SweepResult(exercise=exercise.id, submission=str(submission),
                          max_score=exercise.max_points)
-    for seed in seeds:
-        report = grade(exercise, submission, seed=seed, public=public, limits=limits, key=key)
-        result.grades.append((seed, report))
+    name = Path(submission).name or "submission"
+    jobs = [Job(name, Path(submission), seed=seed, public=public, key=key) for seed in seeds]
+
+    def said(j: int, got: GradeReport | str) -> None:
         if progress is not None:
-            progress(f"seed {seed}: {report.score:g}/{report.max_score:g}")
+            progress(f"seed {seeds[j]}: " + (f"grader infrastructure error: {got}"
+                                             if isinstance(got, str)
+                                             else f"{got.score:g}/{got.max_score:g}"))
+
+    reports = grade_all(exercise, jobs, limits=limits, workers=workers, scheduler=scheduler,
+                        retries=retries, on_report=said, progress=bar)
+    for seed, got in zip(seeds, reports, strict=True):
+        if isinstance(got, str):
+            result.errors.append((seed, got))
+        else:
+            result.grades.append((seed, got))
     return result

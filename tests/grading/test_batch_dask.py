@@ -1,22 +1,33 @@
-"""``ddes grade batch --workers N``: the same bytes for any number of workers (Dask distributed),
-the same report as ``grade()``, and a clear message without the ``batch`` extra."""
+"""``ddes grade batch --workers N``: the same bytes for any number of workers (Dask distributed)
+over references, starters and mutants, the same report as ``grade()``, a worker killed mid-batch
+(retried; past the retry limit one infrastructure error, every other result intact), an
+interrupted batch resumed without regrading, sweep and sensitivity on the same engine, the
+progress bar, and a clear message without the ``batch`` extra."""
 
 from __future__ import annotations
 
 import builtins
 import dataclasses
+import io
+import shutil
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+import ddes.grading.batch as batch
 from ddes.cli.main import main
-from ddes.grading.batch import MISSING, assemble, run_tasks, task_key, tasks_of
+from ddes.grading.batch import MISSING, Progress, assemble, run_tasks, task_key, tasks_of
 from ddes.grading.exercise import REGISTRY
 from ddes.grading.grader import grade
+from ddes.grading.mutants import load_mutants, sensitivity, write_subjects
+from ddes.grading.sweep import sweep
 
 HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
 EXERCISES = str(HERE / "fixtures" / "ex0_talker.py")
+KILLER = str(HERE / "fixtures" / "ex0_killer.py")
 REFERENCE = (HERE / "fixtures" / "solutions" / "ex0_talker" / "talker.py").read_text()
 
 
@@ -33,28 +44,6 @@ def submissions(root: Path) -> Path:
 
 def files(out: Path) -> dict[str, bytes]:
     return {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
-
-
-def test_workers_0_and_2_write_the_same_bytes(tmp_path: Path,
-                                              capsys: pytest.CaptureFixture[str]) -> None:
-    subs = submissions(tmp_path)
-    outs = {}
-    for workers in (0, 2):
-        outs[workers] = tmp_path / f"out{workers}"
-        assert main(["grade", "--exercises", EXERCISES, "batch", "ex0_talker", str(subs),
-                     "--out", str(outs[workers]), "--workers", str(workers)]) == 0
-    printed = capsys.readouterr().out
-    assert "Dask dashboard: http://" in printed
-    serial, dask = files(outs[0]), files(outs[2])
-    assert serial == dask
-    summary = serial["summary.csv"].decode().splitlines()
-    assert summary[0] == "submission,score,max_score,percent,0.1,0.2,0.3,problems"
-    assert [r.split(",")[:5] for r in summary[1:]] == [
-        ["empty", "0", "10", "0.0", "0"], ["five_hz", "6", "10", "60.0", "2"],
-        ["reference", "10", "10", "100.0", "2"]]
-    assert sorted(serial) == sorted(f"{n}/{f}" for n in ("empty", "five_hz", "reference")
-                                    for f in ("junit.xml", "report.txt", "results.json")
-                                    ) + ["summary.csv"]
 
 
 def test_the_tasks_assemble_to_what_grade_gives(tmp_path: Path) -> None:
@@ -92,3 +81,213 @@ def test_without_distributed_workers_is_a_usage_error(tmp_path: Path, monkeypatc
     assert main(["grade", "--exercises", EXERCISES, "batch", "ex0_talker", str(subs),
                  "--out", str(tmp_path / "o"), "--workers", "-1"]) == 2
     assert "--workers -1" in capsys.readouterr().err
+
+
+def course_submissions(solutions: Path, exercise: str, dest: Path,
+                       starter: Path | None = None) -> Path:
+    """The reference, every mutant and the starter of an exercise, as a folder of submissions
+    (``reference``, ``mutant_<name>``, ``starter``)."""
+    solution = solutions / exercise
+    subjects = write_subjects(solution, load_mutants(solution, REGISTRY.get(exercise)),
+                              dest / "subjects")
+    subs = dest / "subs"
+    subs.mkdir()
+    for name, kind, _, folder in subjects:
+        folder.rename(subs / (name if kind == "reference" else f"mutant_{name}"))
+    if starter is not None:
+        shutil.copytree(starter, subs / "starter", ignore=shutil.ignore_patterns("__pycache__"))
+    return subs
+
+
+def same_bytes_for_0_2_4_workers(subs: Path, exercise: str, out: Path,
+                                 extra: list[str]) -> dict[str, bytes]:
+    outs = {}
+    for workers in (0, 2, 4):
+        assert main(["grade", *extra, "batch", exercise, str(subs), "--out",
+                     str(out / str(workers)), "--workers", str(workers)]) == 0
+        outs[workers] = files(out / str(workers))
+    assert outs[0] == outs[2] == outs[4]
+    return outs[0]
+
+
+def test_reference_mutants_and_starter_give_the_same_bytes_on_0_2_and_4_workers(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The demo exercise's reference, its five mutants, a starter (whose stub raises
+    NotImplementedError: a crash is a result) and an empty submission; four workers on two
+    cores: the bytes cannot depend on how many processes share them."""
+    REGISTRY.load_file(EXERCISES)
+    starter = tmp_path / "starter"
+    starter.mkdir()
+    (starter / "talker.py").write_text(REFERENCE.replace(
+        '    rospy.init_node("talker")', '    raise NotImplementedError("your code here")'))
+    subs = course_submissions(HERE / "fixtures" / "solutions", "ex0_talker", tmp_path, starter)
+    (subs / "empty").mkdir()
+    got = same_bytes_for_0_2_4_workers(subs, "ex0_talker", tmp_path / "out",
+                                       ["--exercises", EXERCISES])
+    assert capsys.readouterr().out.count("Dask dashboard: http://") == 2
+    summary = got["summary.csv"].decode().splitlines()
+    assert summary[0] == "submission,score,max_score,percent,0.1,0.2,0.3,problems"
+    assert [r.split(",")[:7] for r in summary[1:]] == [
+        ["empty", "0", "10", "0.0", "0", "0", "0"],
+        ["mutant_bigger_queue", "10", "10", "100.0", "2", "4", "4"],
+        ["mutant_five_hz", "6", "10", "60.0", "2", "0", "4"],
+        ["mutant_no_count", "6", "10", "60.0", "2", "4", "0"],
+        ["mutant_typed_message", "10", "10", "100.0", "2", "4", "4"],
+        ["mutant_wrong_topic", "0", "10", "0.0", "0", "0", "0"],
+        ["reference", "10", "10", "100.0", "2", "4", "4"],
+        ["starter", "0", "10", "0.0", "0", "0", "0"]]
+    assert sorted(got) == sorted(f"{n}/{f}" for n in [r.split(",")[0] for r in summary[1:]]
+                                 for f in ("batch.json", "junit.xml", "report.txt",
+                                           "results.json")) + ["summary.csv"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("exercise", ["ex1_console"])
+def test_a_course_exercise_gives_the_same_bytes_on_0_2_and_4_workers(
+        exercise: str, tmp_path: Path) -> None:
+    """A course exercise's reference, starter (exercises/<id>/) and mutants: about a minute of
+    CPU.  All six course exercises (86 submissions, 0, 1, 2 and 4 workers) are checked by
+    ``python benchmarks/run.py batch``, too long for every CI run."""
+    subs = course_submissions(ROOT / "solutions", exercise, tmp_path,
+                              ROOT / "exercises" / exercise)
+    got = same_bytes_for_0_2_4_workers(subs, exercise, tmp_path / "out", [])
+    summary = got["summary.csv"].decode().splitlines()
+    assert f"reference,{REGISTRY.get(exercise).max_points:g}," in "\n".join(summary)
+    assert not any("grader infrastructure error" in row for row in summary)
+
+
+def talkers(root: Path, texts: dict[str, str]) -> Path:
+    """One submission per name, a talker publishing its text on /chatter."""
+    for name, text in texts.items():
+        (root / name).mkdir(parents=True)
+        (root / name / "talker.py").write_text(
+            REFERENCE.replace('f"hello world {n}"', repr(text)))
+    return root
+
+
+def test_a_killed_worker_is_retried_and_past_the_limit_costs_only_its_task(
+        tmp_path: Path, monkeypatch: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    """b_once's grader kills its worker once (retried, graded); c_always's every time: after
+    --retries 1 (two dead workers) it is a grader infrastructure error; a and d are intact."""
+    marks = tmp_path / "marks"
+    marks.mkdir()
+    monkeypatch.setenv("DDES_TEST_KILL_DIR", str(marks))
+    subs = talkers(tmp_path / "subs", {"a_fine": "hello", "b_once": "kill the worker once",
+                                       "c_always": "kill the worker always", "d_fine": "hi"})
+    out = tmp_path / "out"
+    assert main(["grade", "--exercises", KILLER, "batch", "ex0_killer", str(subs),
+                 "--out", str(out), "--workers", "2", "--retries", "1"]) == 0
+    assert (marks / "killed-once-public").is_file()  # b_once's first worker did die
+    summary = (out / "summary.csv").read_text().splitlines()
+    assert summary[1:3] == ["a_fine,2,2,100.0,2,", "b_once,2,2,100.0,2,"]
+    assert summary[4] == "d_fine,2,2,100.0,2,"
+    assert summary[3] == (
+        'c_always,,2,,,"grader infrastructure error: KilledWorker: every worker that ran this '
+        'task died, past the retry limit (distributed.scheduler.allowed-failures = 1)"')
+    assert not (out / "c_always").exists()
+    assert "c_always: grader infrastructure error: KilledWorker" in capsys.readouterr().err
+    # the others are what a serial batch of them gives, byte for byte
+    shutil.rmtree(subs / "c_always")
+    assert main(["grade", "--exercises", KILLER, "batch", "ex0_killer", str(subs),
+                 "--out", str(tmp_path / "serial")]) == 0
+    serial = files(tmp_path / "serial")
+    assert {k: v for k, v in files(out).items() if k != "summary.csv"} == {
+        k: v for k, v in serial.items() if k != "summary.csv"}
+
+
+class Counted:
+    """The tasks run in this process (serial batches), by submission folder name; with
+    ``stop_at`` set, the instructor's ^C (KeyboardInterrupt) before that many tasks ran."""
+
+    def __init__(self) -> None:
+        self.ran: list[str] = []
+        self.stop_at: int | None = None
+        self.real = batch.grade_scenario
+
+    def __call__(self, task: batch.Task) -> batch.ScenarioOutcome:
+        if self.stop_at is not None and len(self.ran) == self.stop_at:
+            raise KeyboardInterrupt
+        self.ran.append(Path(task.submission).name)
+        return self.real(task)
+
+
+def test_an_interrupted_batch_resumes_without_regrading_finished_submissions(
+        tmp_path: Path, monkeypatch: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    counted = Counted()
+    monkeypatch.setattr(batch, "grade_scenario", counted)
+    subs = submissions(tmp_path)
+    args = ["grade", "--exercises", EXERCISES, "batch", "ex0_talker", str(subs)]
+    assert main([*args, "--out", str(tmp_path / "fresh")]) == 0
+    fresh = files(tmp_path / "fresh")
+    counted.ran, counted.stop_at = [], 2  # ^C on the third task (reference)
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        main([*args, "--out", str(out)])
+    assert counted.ran == ["empty", "five_hz"]
+    assert (out / "five_hz" / "batch.json").is_file() and not (out / "summary.csv").exists()
+    assert not (out / "reference").exists()
+    counted.ran, counted.stop_at = [], None
+    capsys.readouterr()
+    assert main([*args, "--out", str(out), "--resume"]) == 0
+    assert counted.ran == ["reference"]  # empty and five_hz kept
+    assert "resuming: 2 finished submission(s) kept, 1 to grade" in capsys.readouterr().out
+    assert files(out) == fresh
+    # a changed submission is graded again; so is everything without --resume
+    (subs / "five_hz" / "talker.py").write_text(REFERENCE)
+    counted.ran = []
+    assert main([*args, "--out", str(out), "--resume"]) == 0
+    assert counted.ran == ["five_hz"]
+    assert "five_hz,10,10,100.0" in (out / "summary.csv").read_text()
+    counted.ran = []
+    assert main([*args, "--out", str(out)]) == 0
+    assert counted.ran == ["empty", "five_hz", "reference"]
+
+
+def test_the_progress_bar_counts_tasks_without_wall_time() -> None:
+    stream = io.StringIO()
+    bar = Progress(4, stream)
+    for _ in range(4):
+        bar.step()
+    bar.close()
+    frames = stream.getvalue().split("\r")[1:]
+    assert frames[0] == "grading [..............................] 0/4 tasks"
+    assert frames[2] == "grading [###############...............] 2/4 tasks"
+    assert frames[-1] == "grading [##############################] 4/4 tasks\n"
+    silent = io.StringIO()
+    Progress(0, silent).close()  # nothing to grade: no bar
+    assert silent.getvalue() == ""
+
+
+@pytest.fixture(scope="module")
+def scheduler() -> Iterator[str]:
+    """A LocalCluster of two one-thread workers, joined with --scheduler."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as cluster:
+        yield cluster.scheduler_address
+
+
+def test_sweep_and_sensitivity_run_on_the_same_engine(
+        ex0: Any, scheduler: str, capsys: pytest.CaptureFixture[str]) -> None:
+    from .conftest import FIXTURES, SOLUTION
+
+    serial = sweep(ex0, SOLUTION, range(0, 2))
+    dask = sweep(ex0, SOLUTION, range(0, 2), scheduler=scheduler)
+    assert dask.grades == serial.grades and dask.errors == []
+    assert dask.to_text() == serial.to_text()
+    alone = grade(ex0, SOLUTION, seed=1)
+    assert dataclasses.replace(alone, execution_time=0.0) == dask.grades[1][1]
+    solutions = FIXTURES / "solutions"
+    matrix = sensitivity(ex0, solutions).to_text()
+    assert main(["grade", "--exercises", EXERCISES, "sensitivity", "ex0_talker",
+                 "--solutions", str(solutions), "--scheduler", scheduler]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.startswith("Dask dashboard: http://")
+    assert captured.out.endswith(matrix) and "bug mutants killed: 3 of 3; all gates" in matrix
+    assert main(["grade", "--exercises", EXERCISES, "sweep", "ex0_talker", str(SOLUTION),
+                 "--seeds", "0:2", "--scheduler", scheduler, "--workers", "2"]) == 2
+    assert "not both" in capsys.readouterr().err
+    assert main(["grade", "--exercises", EXERCISES, "sweep", "ex0_talker", str(SOLUTION),
+                 "--seeds", "0:2", "--scheduler", scheduler, "--retries", "1"]) == 2
+    assert "--retries sets the retry limit" in capsys.readouterr().err
