@@ -61,6 +61,8 @@ from ddes.services.server import Service
 from ddes.time import Time
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from ddes.graph.node import Node
     from ddes.graph.world import World
 
@@ -103,15 +105,17 @@ class Lockstep:
         self._child_next: float = 0
 
     # -- the loop -----------------------------------------------------------------------------
-    def run(self, until_ns: int) -> SandboxOutcome:
-        """Run both until ``until_ns`` (exclusive, as ``World.run(until)``), then end the child;
-        returns how it ended.  The proxies of a child still running at the end stay registered
-        (criteria read the graph); those of a child that ended earlier were shut down then."""
+    def run(self, until_ns: int, done: Callable[[], bool] | None = None) -> SandboxOutcome:
+        """Run both until ``until_ns`` (exclusive, as ``World.run(until)``), or until ``done()``
+        is true after an instant, then end the child; returns how it ended.  The proxies of a
+        child still running at the end stay registered (criteria read the graph); those of a
+        child that ended earlier were shut down then."""
         world = self.world
         env = world.env
         if not self.sandbox.alive and self.sandbox.outcome.state == "running":
             self.sandbox.start()
-        while True:
+        ended = False
+        while not ended:
             tc = self._child_next if self.sandbox.alive else _INF
             t = min(env.peek(), tc)
             if t >= until_ns:
@@ -120,7 +124,8 @@ class Lockstep:
             if world.now < t:
                 world.run(until=Time._from_ns(t))
             self._instant(t)
-        if world.now < until_ns:
+            ended = done is not None and done()
+        if world.now < until_ns and not ended:
             world.run(until=Time._from_ns(until_ns))
         outcome = self.sandbox.close()
         if outcome.state != "finished":

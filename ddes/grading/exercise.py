@@ -148,6 +148,9 @@ class Exercise:
     scenarios: Callable[[int, bool], list[Scenario]] = _one_public
     #: Files the submission must hold (the scripts are added).
     required_files: tuple[str, ...] = ()
+    #: ``finished(world)``: True once the scenario's schedule is over; the run then ends before
+    #: ``duration`` (which stays the cap).  Checked at each lockstep instant; None: never.
+    finished: Callable[[World], bool] | None = None
     #: The instructor's file it was loaded from (``load_file``), so replay commands name it.
     origin: str = field(default="", compare=False)
 

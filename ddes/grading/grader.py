@@ -115,7 +115,8 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         params = {"/use_sim_time": True} if world.use_sim_time else {}
         sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits, params=params)
         lock = Lockstep(world, sandbox)
-        outcome = lock.run(until)
+        finished = exercise.finished
+        outcome = lock.run(until, done=None if finished is None else lambda: finished(world))
         refused = lock.problems
         nodes = list(lock.proxies)
     else:

@@ -1,6 +1,7 @@
-"""Exercise 5: the reference earns everything over a few seeds, the starter at most 20 %, a
-proximity threshold compared the wrong way and a crash detector that includes gravity each lose
-their own criteria (and their no-false-stop share); one grading's wall time is printed."""
+"""Exercise 5: the reference earns everything, the starter at most 20 %, a proximity threshold
+compared the wrong way and a crash detector that includes gravity each lose their own criteria
+(and their no-false-stop share); one grading's wall time is printed.  The mutants' kill matrix
+and the 20-seed sweep are in test_sensitivity.py."""
 
 from __future__ import annotations
 
@@ -38,12 +39,6 @@ def test_reference_earns_everything_and_one_grading_is_timed() -> None:
     wall = time.perf_counter() - start
     print(f"ex5_safety: one grading (3 scenarios of {EX.duration:g} s) took {wall:.2f} s wall")
     assert report.score == 100, [c.evidence for c in report.criteria]
-
-
-def test_reference_has_no_false_failure_over_a_few_seeds() -> None:
-    for seed in (1, 2):
-        report = grade(EX, SOLUTION, seed=seed)
-        assert report.score == 100, (seed, [c.evidence for c in report.criteria])
 
 
 def test_starter_earns_at_most_20_percent() -> None:

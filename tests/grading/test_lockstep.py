@@ -44,6 +44,15 @@ def test_a_sandboxed_talker_delivers_what_an_in_process_one_delivers() -> None:
     assert world2.master.topics["/chatter"].publisher_nodes() == ["/talker"]
 
 
+def test_a_run_ends_early_once_done_and_the_world_stops_there() -> None:
+    world, got = listener_world()
+    lock = Lockstep(world, Sandbox(SOLUTION, [("talker.py", [])]))
+    lock.run(10_000_000_000, done=lambda: len(got) >= 5)
+    # the fifth message arrives at 0.5 s: the world stops at that instant, not at 10 s
+    assert [t for t, _, _ in got] == [100_000_000 * i for i in range(1, 6)]
+    assert world.now == 500_000_000
+
+
 def test_messages_cross_both_ways_at_the_same_instant(tmp_path: Path) -> None:
     (tmp_path / "echo.py").write_text(textwrap.dedent("""\
         import rospy

@@ -6,6 +6,8 @@ The student's server runs in the sandbox; the grader drives it with its own prot
 (:class:`ddes.actionlib.ActionClient`) across the bridge -- the five action topics are plain
 topics, so they cross like any other -- through a fixed schedule drawn from the scenario seed:
 
+0. **warm-up**: the grader itself drives the robot forward and round a curve for 1.5 s (a
+   Twist on ``/cmd_vel``), so that ``odom`` and ``base_link`` differ when the first goal comes;
 1. **follow**: a path of three waypoints in odom (drawn relative to the robot's pose then, so
    ``odom`` differs from ``base_link``), followed to SUCCEEDED;
 2. **empty**: an empty path, ABORTED;
@@ -17,6 +19,21 @@ topics, so they cross like any other -- through a fixed schedule drawn from the 
    that instant (``Simulator.add``): ABORTED within 6 s of the contact;
 6. **teardown**: cancel every goal and require every goal to end.
 
+The student's client (4b.7), ``follow_path_client.py`` from the package, runs beside the server
+in the same sandbox from the start, with ``_action_name`` set to a grader action server of its
+own (``/ddes_grader/follow_path_client``) and a hidden ``_side`` and ``_cancel_after``: that
+server accepts the goal, publishes feedback and never finishes by itself; it records the goal
+(a square of the given side in ``odom``) and the cancel (at ``cancel_after``), answers the
+cancel 0.3 s later with PREEMPTED and notes whether the client still listens for the result then
+(it waits for the terminal state).
+
+The course's class rule (teaching.md's C0, "all logic in a class", -20 % in the ETH sheets) is
+read with :mod:`ast`, never imported: each script defines a class, its main part builds it and
+calls none of the action API itself.  It is a share of 4b.1 (the server script, 5) and of 4b.7
+(the client script, 2), so that the criteria keep the design's weights and sum to 100.
+
+The run ends when the schedule is over (:attr:`~ddes.grading.exercise.Exercise.finished`;
+``DURATION``, longer than all the schedule's waits, is the cap for a server that stalls it).
 The simulator runs without odometry noise (odom is the truth in the start frame) and without
 the laser; the server's ``~action_name`` is a hidden one in hidden scenarios.
 
@@ -32,13 +49,21 @@ stays in the child, so the grader reads rospy's error texts for them from the st
 
 from __future__ import annotations
 
+import ast
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
-from ddes.grading.course import CourseExercise, hidden_random, notes
+from ddes.grading.course import CourseExercise, find_package, hidden_random, notes, parse_source
 from ddes.grading.exercise import Criterion, Facts, Scenario
-from ddes.grading.exercises.common import launch_problem, student_logs
+from ddes.grading.exercises.common import (
+    call_name,
+    calls_in,
+    class_names,
+    launch_problem,
+    student_logs,
+)
 from ddes.transformations import cos, sin
 
 __all__ = ["EX4B", "scenarios"]
@@ -46,13 +71,24 @@ __all__ = ["EX4B", "scenarios"]
 PKG = "smb_follow_path"
 LAUNCH = f"{PKG}/launch/{PKG}.launch"
 NODE_TYPE = "follow_path_server.py"
+CLIENT = "follow_path_client.py"
+#: The grader's own FollowPath server the student's client talks to (4b.7).
+CLIENT_NS = "/ddes_grader/follow_path_client"
+#: The grader's server answers a cancel this long after it arrives (s).
+CLIENT_PREEMPT_S = 0.3
+#: The client's cancel counts within [cancel_after - EARLY, cancel_after + LATE] of the goal (s).
+CANCEL_EARLY_S, CANCEL_LATE_S = 0.05, 0.3
 ACTION = "lecture4_actions/FollowPathAction"
-DURATION = 30.0
+DURATION = 55.0  # the cap: the schedule's waits add up to about 53 s; the reference ends by 26 s
 SEC = 1_000_000_000
 #: Tolerances (m): a waypoint passed, the end reached, feedback against the grader's numbers.
 PASS_TOL, END_TOL, FB_TOL, MONO_TOL = 0.25, 0.2, 0.15, 0.15
 ZERO_TWIST_S, STOPPED_S, STOPPED_V = 0.2, 1.0, 0.02
 ABORT_AFTER_CONTACT_S = 6.0
+#: The grader's warm-up drive before the first goal: 1.5 s at this speed (m/s) and turn (rad/s).
+WARMUP_V, WARMUP_W = 0.5, 0.8
+#: The run does not end before this (s) while the client's cancel is still to come.
+CLIENT_SPAN = 10.0
 FEEDBACK_HZ = 5.0
 _SUFFIXES = ("goal", "cancel", "status", "feedback", "result")
 
@@ -75,7 +111,8 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
         "yaw": 0.0, "action": "follow_path", "pillar_r": 0.3,
         "follow": [(1.2, 0.0), (1.6, 1.0), (0.8, 1.2)], "cancel_after": 1.5,
         "cancel_path": [(3.0, 0.0), (6.0, 0.0)], "newer_after": 1.5,
-        "old_path": [(1.5, -1.0), (3.0, -1.0)], "new_path": [(1.0, 0.5)]})]
+        "old_path": [(1.5, -1.0), (3.0, -1.0)], "new_path": [(1.0, 0.5)],
+        "client_side": 2.0, "client_cancel": 3.0})]
     for i in range(2):
         rng = hidden_random(f"ex4b_actions/{i}", seed)
         out.append(Scenario(f"hidden-{i + 1}", seed, hidden=True, params={
@@ -84,7 +121,8 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
             "cancel_after": round(rng.uniform(1.0, 2.5), 3),
             "cancel_path": [(3.0, round(rng.uniform(-0.5, 0.5), 3)), (6.0, 0.0)],
             "newer_after": round(rng.uniform(1.0, 2.0), 3), "old_path": _box_path(rng, 2),
-            "new_path": _box_path(rng, 1)}))
+            "new_path": _box_path(rng, 1), "client_side": round(rng.uniform(1.0, 3.0), 2),
+            "client_cancel": round(rng.uniform(1.5, 3.5), 2)}))
     return out
 
 
@@ -123,6 +161,8 @@ class Run:
     pillar: tuple[float, float, float] | None = None
     up: bool = False
     finished: bool = False
+    #: The driver has returned (after the teardown, or without a server).
+    over: bool = False
 
 
 def _odom_pose(world: Any, scenario: Scenario) -> tuple[float, float, float]:
@@ -195,6 +235,67 @@ def build(world: Any, scenario: Scenario) -> None:
 
     ddes.Timer(node, 0.1, check)
     node.process(_drive(world, scenario, node, run))
+    _client_server(world)
+
+
+# -- the grader's server for the student's client (4b.7) -----------------------------------------
+
+@dataclass
+class ClientLog:
+    """What the grader's FollowPath server saw of the student's client."""
+
+    goals: list[tuple[int, Any, str]] = field(default_factory=list)  # (t_ns, goal, id)
+    cancels: list[tuple[int, str]] = field(default_factory=list)  # (t_ns, id)
+    result_ns: int = -1
+    listening_at_result: bool = False
+    missing: str = ""
+
+
+def _client_server(world: Any) -> None:
+    """A FollowPath server at CLIENT_NS that accepts every goal, publishes feedback at 5 Hz,
+    never finishes by itself, and answers a cancel with PREEMPTED after CLIENT_PREEMPT_S."""
+    from ddes.actionlib.server import ActionServer
+    from ddes.actionlib.states import GoalStatus
+    from ddes.msg import get_message_class
+
+    log = ClientLog()
+    world._ddes_ex4b_client = log
+    node = world.create_node("/grader_follow_path_client_check", disable_rosout=True)
+    Feedback = get_message_class("lecture4_actions/FollowPathFeedback")
+    Result = get_message_class("lecture4_actions/FollowPathResult")
+
+    def listening() -> bool:
+        entry = world.master.topics.get(CLIENT_NS + "/result")
+        return entry is not None and any(e.node is not node and not e.node.is_shutdown()
+                                         for e in entry.subscribers)
+
+    def feed(gh: Any, length: float) -> Any:
+        start = world.now
+        while gh.status in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING):
+            left = max(0.0, length - 0.5 * (world.now - start) / SEC)
+            gh.publish_feedback(Feedback(remaining_distance=left, initial_distance=length))
+            yield node.sleep(0.2)
+
+    def on_goal(gh: Any) -> None:
+        goal = gh.get_goal()
+        log.goals.append((world.now, goal, gh.get_goal_id().id))
+        gh.set_accepted()
+        pts = [(q.pose.position.x, q.pose.position.y) for q in goal.path.poses]
+        node.process(feed(gh, sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))))
+
+    def preempt(gh: Any) -> Any:
+        yield node.sleep(CLIENT_PREEMPT_S)
+        if gh.status == GoalStatus.PREEMPTING:
+            log.result_ns = world.now
+            log.listening_at_result = listening()
+            gh.set_canceled(Result(success=False))
+
+    def on_cancel(gh: Any) -> None:
+        log.cancels.append((world.now, gh.get_goal_id().id))
+        node.process(preempt(gh))
+
+    server = ActionServer(node, CLIENT_NS, ACTION, on_goal, on_cancel, auto_start=False)
+    server.start()
 
 
 def _drive(world: Any, scenario: Scenario, node: Any, run: Run) -> Any:
@@ -210,8 +311,20 @@ def _drive(world: Any, scenario: Scenario, node: Any, run: Run) -> Any:
     if not ok:
         run.notes.append(f"no action server on {run.ns} within 5 s (no status on "
                          f"{run.ns}/status, or goal/cancel not subscribed)")
+        run.over = True
         return
     run.up = True
+    # 0. warm-up: the grader drives the robot off its start pose (odom != base_link then)
+    import ddes
+
+    Twist = get_message_class("geometry_msgs/Twist")
+    cmd = ddes.Publisher(node, "/cmd_vel", Twist, queue_size=1)
+    for _ in range(15):
+        twist = Twist()
+        twist.linear.x, twist.angular.z = WARMUP_V, WARMUP_W
+        cmd.publish(twist)
+        yield node.sleep(0.1)
+    cmd.publish(Twist())
     yield node.sleep(0.5)
 
     def send(phase: str, rel: list[tuple[float, float]]) -> Goal:
@@ -272,9 +385,44 @@ def _drive(world: Any, scenario: Scenario, node: Any, run: Run) -> Any:
     while world.now < end and (m._live() or m._unfinished()):
         yield node.sleep(0.1)
     run.finished = True
+    run.over = True
+
+
+def finished(world: Any) -> bool:
+    """The schedule is over, and so is the client's part (its result came, it has no client, or
+    CLIENT_SPAN passed): the run can end before DURATION."""
+    run = getattr(world, "_ddes_ex4b", None)
+    log = getattr(world, "_ddes_ex4b_client", None)
+    if not isinstance(run, Run) or not run.over:
+        return False
+    return (not isinstance(log, ClientLog) or log.result_ns >= 0 or bool(log.missing)
+            or world.now >= CLIENT_SPAN * SEC)
 
 
 # -- facts shared by the checks -----------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Ex4b(CourseExercise):
+    """The launch file's nodes, and the student's client beside them (4b.7)."""
+
+    def student_scripts(self, world: Any, scenario: Scenario,
+                        submission: Path) -> list[tuple[str, list[str]]]:
+        from ddes.nodes import find_script
+
+        scripts = super().student_scripts(world, scenario, submission)
+        pkg = find_package(submission, PKG)
+        script = find_script(pkg, CLIENT) if pkg is not None else None
+        log = getattr(world, "_ddes_ex4b_client", None)
+        if script is None:
+            if isinstance(log, ClientLog):
+                log.missing = f"{PKG} has no scripts/{CLIENT}"
+            return scripts
+        p = scenario.params
+        rel = str(script.resolve().relative_to(submission.resolve()))
+        return [*scripts, (rel, ["__name:=follow_path_client", f"_action_name:={CLIENT_NS}",
+                                 f"_side:={p['client_side']}",
+                                 f"_cancel_after:={p['client_cancel']}"])]
+
 
 def _run(facts: Facts) -> tuple[Run | None, str]:
     why = launch_problem(facts)
@@ -358,6 +506,34 @@ def _followed(facts: Facts, run: Run, g: Goal | None, what: str) -> tuple[bool, 
     return True, ""
 
 
+# -- the course's class rule (C0: a share of 4b.1 and 4b.7) --------------------------------------
+
+#: Calls the main part of each script must leave to its class.
+_SERVER_CALLS = ("SimpleActionServer", "ActionServer", "Publisher", "Subscriber", "Rate",
+                 "publish", "publish_feedback", "set_succeeded", "set_aborted", "set_preempted")
+_CLIENT_CALLS = ("SimpleActionClient", "ActionClient", "wait_for_server", "send_goal",
+                 "cancel_goal", "cancel_all_goals", "wait_for_result", "get_result")
+
+
+def _class_rule(facts: Facts, script: str, calls: tuple[str, ...]) -> str:
+    """Why ``scripts/<script>`` breaks the course's rule "logic in the class" (empty when it
+    keeps it): read with :mod:`ast`, never imported.  The script defines a class, its main part
+    (everything outside the classes) builds it and calls none of ``calls``."""
+    rel = f"{PKG}/scripts/{script}"
+    tree = parse_source(facts, rel)
+    if tree is None:
+        return f"{rel} is missing or does not parse"
+    names = class_names(tree)
+    outside = [n for n in tree.body if not isinstance(n, ast.ClassDef)]
+    made = {call_name(c) for n in outside for c in calls_in(n)}
+    if not names or not made & set(names):
+        return f"{script} does not define a class and build it in its main part"
+    bad = sorted(made & set(calls))
+    if bad:
+        return f"{script}'s main part calls {', '.join(bad)}: keep all logic in the class"
+    return ""
+
+
 # -- 4b.1 the server ----------------------------------------------------------------------------
 
 def check_server(facts: Facts) -> tuple[float, list[str]]:
@@ -381,6 +557,10 @@ def check_server(facts: Facts) -> tuple[float, list[str]]:
     if missing:
         return 0.0, [f"no FollowPath server on {ns} (the ~action_name in force): "
                      + ", ".join(missing)]
+    rule = _class_rule(facts, NODE_TYPE, _SERVER_CALLS)
+    if rule:
+        return 5.0, [f"the server works, but the course's rule 'logic in the class' is broken: "
+                     f"{rule}"]
     return 10.0, []
 
 
@@ -520,7 +700,7 @@ def check_preemption(facts: Facts) -> tuple[float, list[str]]:
     else:
         res = _result(facts, run, g)
         if res is not None and res[1] == GoalStatus.PREEMPTED and res[0] - g.cancel_ns <= SEC:
-            points += 5
+            points += 4
         else:
             got = "no result" if res is None else \
                 f"{_status_name(res[1])} {(res[0] - g.cancel_ns) / 1e9:.2f} s after the cancel"
@@ -534,7 +714,7 @@ def check_preemption(facts: Facts) -> tuple[float, list[str]]:
         moving = [(t, v) for t, _x, _y, _yaw, v in _truth_odom(facts)
                   if g.cancel_ns + int(STOPPED_S * SEC) <= t <= until and abs(v) > STOPPED_V]
         if zero and not moving:
-            points += 5
+            points += 4
         else:
             if not zero:
                 lines.append(f"cancel: no zero Twist on /cmd_vel from your node within "
@@ -546,14 +726,14 @@ def check_preemption(facts: Facts) -> tuple[float, list[str]]:
     res = _result(facts, run, old) if old is not None else None
     if res is not None and res[1] == GoalStatus.PREEMPTED and new is not None \
             and res[0] - new.sent_ns <= SEC:
-        points += 5
+        points += 4
     else:
         got = "no result" if res is None or new is None else \
             f"{_status_name(res[1])} {(res[0] - new.sent_ns) / 1e9:.2f} s after the newer goal"
         lines.append(f"a newer goal: the older goal got {got}; expected PREEMPTED within 1 s")
     ok, why = _followed(facts, run, new, "the newer goal")
     if ok:
-        points += 5
+        points += 3
     else:
         lines.append(why)
     return points, lines
@@ -582,17 +762,87 @@ def check_protocol(facts: Facts) -> tuple[float, list[str]]:
     late = m._unfinished()
     if late:
         return 0.0, [f"goal {late[0]} never got a result after the grader cancelled everything"]
-    return 20.0, []
+    return 15.0, []
+
+
+# -- 4b.7 the client ----------------------------------------------------------------------------
+
+def _square_problem(path: Any, side: float) -> str:
+    """Why ``path`` is not a square of ``side`` in odom (empty when it is one): at least four
+    poses, the first four corners with four sides of ``side`` and diagonals of side * sqrt(2)."""
+    frames = {path.header.frame_id, *(q.header.frame_id for q in path.poses)} - {""}
+    if frames != {"odom"}:
+        return f"the path's poses are in {sorted(frames) or 'no frame'}, not in odom"
+    pts = [(q.pose.position.x, q.pose.position.y) for q in path.poses]
+    if len(pts) < 4:
+        return f"the path has {len(pts)} poses, not the four corners of a square"
+    a, b, c, d = pts[:4]
+    sides = [math.dist(a, b), math.dist(b, c), math.dist(c, d), math.dist(d, a)]
+    diag = [math.dist(a, c), math.dist(b, d)]
+    if any(abs(s - side) > 0.01 for s in sides) or any(abs(x - side * math.sqrt(2)) > 0.01
+                                                         for x in diag):
+        return (f"the first four poses are not a square of side {side:g} (_side): sides "
+                + ", ".join(f"{s:.2f}" for s in sides) + " m")
+    return ""
+
+
+def check_client(facts: Facts) -> tuple[float, list[str]]:
+    """3 a square goal of ~side; 3 the cancel at ~cancel_after; 2 still waiting for the result
+    when the PREEMPTED result comes; 2 the class rule (once the client sends its goal)."""
+    why = launch_problem(facts)
+    if why:
+        return 0.0, [why]
+    log = getattr(facts.world, "_ddes_ex4b_client", None)
+    if not isinstance(log, ClientLog):
+        return 0.0, ["the grader's server for your client did not run"]
+    if log.missing:
+        return 0.0, [log.missing]
+    p = facts.scenario.params
+    side, after = float(p["client_side"]), float(p["client_cancel"])
+    run = (f"{CLIENT} _action_name:={CLIENT_NS} _side:={side:g} _cancel_after:={after:g}")
+    if not log.goals:
+        return 0.0, [f"{run}: no goal reached the server"]
+    t0, goal, gid = log.goals[0]
+    points, lines = 0.0, []
+    square = _square_problem(goal.path, side)
+    if square:
+        lines.append(f"{run}: {square}")
+    else:
+        points += 3
+    cancels = [t for t, g in log.cancels if g == gid]
+    if not cancels:
+        lines.append(f"{run}: the goal was never cancelled (the server does not finish it; "
+                     f"cancel it after {after:g} s)")
+    else:
+        late = (cancels[0] - t0) / SEC - after
+        if not -CANCEL_EARLY_S <= late <= CANCEL_LATE_S:
+            lines.append(f"{run}: the cancel came {(cancels[0] - t0) / SEC:.2f} s after the "
+                         f"goal (expected {after:g} s)")
+        else:
+            points += 3
+            if log.listening_at_result:
+                points += 2
+            else:
+                lines.append(f"{run}: when the server answered the cancel "
+                             f"({CLIENT_PREEMPT_S:g} s later, PREEMPTED) your client no longer "
+                             "listened for the result: wait for the terminal state")
+    rule = _class_rule(facts, CLIENT, _CLIENT_CALLS)
+    if rule:
+        lines.append(f"the course's rule 'logic in the class' is broken: {rule}")
+    else:
+        points += 2
+    return points, lines
 
 
 CREDIT = "lecture 4 (ETH Zurich, Programming for Robotics), ROS Actions; a ddes exercise"
 
-EX4B = CourseExercise(
+EX4B = _Ex4b(
     id="ex4b_actions",
     title="A preemptable FollowPath action server on the robot",
     criteria=(
         Criterion("4b.1", "the FollowPath server is advertised under ~action_name (its five "
-                  "topics, the lecture's types)", 10, check_server, credit=CREDIT),
+                  "topics, the lecture's types; 5) from a class its script builds (5)", 10,
+                  check_server, credit=CREDIT),
         Criterion("4b.2", "follows the path: every waypoint passed in order within 0.25 m, the "
                   "end within 0.2 m, SUCCEEDED with success: true", 25, check_follow,
                   credit=CREDIT),
@@ -602,17 +852,21 @@ EX4B = CourseExercise(
         Criterion("4b.4", "aborts an empty path and a path it cannot follow (no progress)", 10,
                   check_aborts, credit=CREDIT),
         Criterion("4b.5", "preemption: a cancel gives PREEMPTED and stops the robot (zero "
-                  "Twist); a newer goal preempts the older and is followed", 20,
+                  "Twist); a newer goal preempts the older and is followed", 15,
                   check_preemption, credit=CREDIT),
         Criterion("4b.6", "the actionlib protocol (ddes.testing.actions' checks) holds over "
-                  "the grader's schedule of goals and cancels", 20, check_protocol,
+                  "the grader's schedule of goals and cancels", 15, check_protocol,
                   credit=CREDIT),
+        Criterion("4b.7", "the client sends a square path of ~side, cancels it after "
+                  "~cancel_after and waits for the terminal state, from a class its script "
+                  "builds", 10, check_client, credit=CREDIT),
     ),
     scripts=(),
     duration=DURATION,
     build=build,
     scenarios=scenarios,
     required_files=(LAUNCH,),
+    finished=finished,
     launch=LAUNCH,
     setup=setup,
 )
