@@ -143,6 +143,8 @@ print(hashlib.sha256(" ".join(digests).encode()).hexdigest())
 # %% [markdown]
 # ## Try this
 #
-# Exercise 4c (`exercises/ex4c_time/`, coming) is about nodes that behave the same on wall and
-# simulated time. Here, play the bag with `loop=True` and watch the ROS time jump back at the
+# Exercise 4c (`exercises/ex4c_time/README.md`) is about a node that behaves right on wall and
+# simulated time: a heartbeat on `rospy.Rate`, an odometry watchdog on ROS time, a status line on
+# wall time, graded under the simulator at half speed, paused and restarted, and under
+# `rosbag play --clock -r 2` and `--loop`. Here, play the bag with `loop=True` and watch the ROS time jump back at the
 # end of each pass, or give the player `rate=0.5`.

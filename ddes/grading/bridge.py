@@ -191,7 +191,8 @@ class Lockstep:
         if self.world.lookup_node(name) is not None:
             self._refuse(t, f"node name {name} is taken by the grader's world: refused")
             return None
-        node = self.world.create_node(name, disable_rosout=True)
+        # a proxy only mirrors: it keeps no clock of its own (no /clock subscription under sim time)
+        node = self.world.create_node(name, disable_rosout=True, use_sim_time=False)
         self.proxies[name] = node
         return node
 

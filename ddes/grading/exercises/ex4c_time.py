@@ -15,7 +15,8 @@ and sets ``/use_sim_time`` for the student's process (it crosses into the sandbo
   seconds through ``/simulator/pause_physics`` (ROS time stands still); at the end the simulator
   is restarted, so ``/clock`` jumps back to zero (as when Gazebo is restarted under running
   nodes).
-* ``bag`` (S3, S6): ``rosbag play --clock -r 2`` of a recorded odometry bag with a gap, to its end
+* ``bag`` (S3, S6): 1.5 s after the node starts (ROS time is 0 until then),
+  ``rosbag play --clock -r 2`` of a recorded odometry bag with a gap, to its end
   (ROS time then stands still), then ``rosbag play --clock --loop`` of a short bag: the clock jumps
   back at every pass.
 
@@ -80,7 +81,7 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
     for i, kind in enumerate(("kernel", "simulator", "bag")):
         rng = hidden_random(f"ex4c_time/{i}", seed)
         timeout = round(rng.uniform(0.6, 1.4), 2)
-        out.append(Scenario(f"hidden-{kind}", seed, hidden=True,
+        out.append(Scenario(f"hidden-{i + 1}", seed, hidden=True,
                             params=_timeline(kind, rng, HIDDEN_RATE, timeout)))
     return out
 
@@ -100,7 +101,8 @@ def _timeline(kind: str, rng: Any, rate: float, timeout: float) -> dict[str, Any
         p["restart"] = j(26.5, 0.2)
     else:
         p["gap"] = (j(104.0, 1.0), silence)  # bag time of the odometry gap, its length
-        p["loop_at"] = j(10.0, 0.5)
+        p["play_at"] = j(1.5, 0.3)
+        p["loop_at"] = j(11.5, 0.5)
     return p
 
 
@@ -178,13 +180,15 @@ def build(world: Any, scenario: Scenario) -> None:
         world.use_sim_time = True
         from ddes.rosbag import Player
 
-        Player(world, _odom_bag(BAG_START, BAG_SPAN, p["gap"]), clock=True, rate=2.0,
-               quiet=True)
+        bag = _odom_bag(BAG_START, BAG_SPAN, p["gap"])
         loop_bag = _odom_bag(BAG_START, LOOP_SPAN, None)
-        node = world.create_node("/ddes_grader/looper", disable_rosout=True, use_sim_time=False)
+        node = world.create_node("/ddes_grader/player", disable_rosout=True, use_sim_time=False)
 
         def later() -> Any:
-            yield node.sleep(p["loop_at"])
+            # rosbag play is started by hand after the node: ROS time is 0 until its first /clock
+            yield node.sleep(p["play_at"])
+            Player(world, bag, clock=True, rate=2.0, quiet=True)
+            yield node.sleep(p["loop_at"] - p["play_at"])
             player = Player(world, loop_bag, clock=True, loop=True, quiet=True)
             yield node.sleep(LOOP_FOR)
             player.stop("stopped by the grader (Ctrl+C)")
@@ -284,7 +288,7 @@ def _published(facts: Facts, topics: tuple[str, ...]) -> dict[str, list[tuple[in
     (a select per topic scans the whole trace each time)."""
     out: dict[str, list[tuple[int, str, bytes]]] = {name: [] for name in topics}
     for ev in facts.world.trace.select(kind="topic.publish"):
-        got = out.get(ev.details.get("topic"))  # type: ignore[call-overload]
+        got = out.get(str(ev.details.get("topic")))
         if got is not None:
             got.append((ev.t, ev.source, ev.details["data"]))
     return out
@@ -320,7 +324,7 @@ def _facts(facts: Facts) -> _Run:
             run.zeros.append(t)
     run.logs = [(t, int(m.level), str(m.msg))
                 for t, _w, m in _decode(facts, "/rosout", mine_only["/rosout"])]
-    facts.world._ddes_ex4c_run = run
+    facts.world._ddes_ex4c_run = run  # type: ignore[attr-defined]
     return run
 
 
