@@ -22,7 +22,7 @@ from ddes.grading.sweep import sweep
 REPO = Path(__file__).resolve().parents[2]
 SOLUTIONS = REPO / "solutions"
 DOCS = REPO / "docs" / "grading.md"
-EXERCISES = ["ex1_console", "ex2_package", "ex3_pillar", "ex4a_services"]
+EXERCISES = ["ex1_console", "ex2_package", "ex3_pillar", "ex4a_services", "ex4c_time"]
 SEEDS = range(20)
 
 
