@@ -18,7 +18,7 @@ from rosbags.typesys import Stores, get_typestore
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import best_rate, row  # noqa: E402
+from common import compare, result, size  # noqa: E402
 
 from ddes import Time  # noqa: E402
 from ddes.msg import (  # noqa: E402
@@ -81,17 +81,16 @@ def _pair(name: str, msg: Message, n: int) -> dict[str, Any]:
     def rosbags_round_trip() -> None:
         _STORE.deserialize_ros1(_STORE.serialize_ros1(rb_msg, rb_type), rb_type)
 
-    base = best_rate(_loop(rosbags_round_trip, n), repeat=3)
-    value = best_rate(_loop(ddes_round_trip, n), repeat=3)
-    return row(name, value, "msgs/s", base, "rosbags serialize_ros1+deserialize_ros1",
-               n=n, bytes=len(data))
+    c = compare(_loop(ddes_round_trip, n), _loop(rosbags_round_trip, n), repeat=7)
+    return result(name, c, "msgs/s", "rosbags serialize_ros1+deserialize_ros1",
+                  n=n, bytes=len(data))
 
 
 def benchmarks() -> list[dict[str, Any]]:
     return [
-        _pair("msg_roundtrip_string", _string(), 20_000),
-        _pair("msg_roundtrip_odometry", _odometry(), 10_000),
-        _pair("msg_roundtrip_laserscan720", _laser_scan(), 3_000),
+        _pair("msg_roundtrip_string", _string(), size(20_000)),
+        _pair("msg_roundtrip_odometry", _odometry(), size(10_000)),
+        _pair("msg_roundtrip_laserscan720", _laser_scan(), size(3_000)),
     ]
 
 

@@ -4,27 +4,25 @@ Each row's ``value`` is the blocking (greenlet) style's rate, its ``baseline`` t
 so ``ratio`` is the blocking style's share of the yield style's speed (issue 16: ≈ 0.5 expected for
 a bare Rate loop, a greenlet switch pair per tick; ≥ 0.7 the goal for talker/listener and
 add_two_ints).  Rates are CPU time (``time.process_time``), not wall time: the machine is shared,
-and another process's burst then slows neither side.  Each row is the pair (yield run, blocking
-run) with the median ratio of ``REPEAT`` back-to-back pairs.
+and another process's burst then slows neither side.  The two styles run interleaved ``REPEAT`` times
+(``common.compare``); the row gives the medians and the ratio's spread.
 """
 
 from __future__ import annotations
 
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import row  # noqa: E402
+from common import compare, result, size  # noqa: E402
 
 import ddes  # noqa: E402
 from ddes.compat import rospy  # noqa: E402
 from ddes.graph.blocking import spawn  # noqa: E402
 
-N = 20_000
+N = size(20_000)
 HZ = 1000
 REPEAT = 9
 String = ddes.get_message_class("std_msgs/String")
@@ -152,35 +150,15 @@ def green_add() -> int:
     return done[0]
 
 
-def _cpu_rate(fn: Callable[[], int]) -> float:
-    """``fn()``'s operations per second of this process's CPU time."""
-    t0 = time.process_time()
-    n = fn()
-    return n / (time.process_time() - t0)
-
-
-def compare_cpu(green: Callable[[], int], plain: Callable[[], int],
-                repeat: int = REPEAT) -> tuple[float, float]:
-    """ops/s (CPU time) of both styles: the back-to-back pair with the median ratio."""
-    pairs = []
-    for _ in range(repeat):
-        y = _cpu_rate(plain)
-        g = _cpu_rate(green)
-        pairs.append((g / y, g, y))
-    pairs.sort()
-    _, g, y = pairs[len(pairs) // 2]
-    return g, y
-
-
 def benchmarks() -> list[dict[str, Any]]:
     out = []
     for name, unit, green, plain in (
             ("rospy_rate_loop", "ticks/s", green_rate, yield_rate),
             ("rospy_talker_listener", "messages/s", green_chatter, yield_chatter),
             ("rospy_add_two_ints", "calls/s", green_add, yield_add)):
-        g, y = compare_cpu(green, plain)
-        out.append(row(name, g, unit, y, "the same work in the yield style", n=N,
-                       clock="process_time"))
+        c = compare(green, plain, repeat=REPEAT)
+        out.append(result(name, c, unit, "the same work in the yield style", n=N,
+                          clock="process_time"))
     return out
 
 

@@ -17,13 +17,13 @@ import subprocess
 import time
 from typing import Any
 
-from common import row
+from common import repeats, row, size
 
 from ddes.msg import get_message_class
 from ddes.tf2 import BufferCore
 from ddes.time import Time
 
-N = 2000
+N = size(2000)
 LINKS = [("map", "odom"), ("odom", "base"), ("base", "arm"), ("arm", "hand")]
 
 
@@ -107,7 +107,7 @@ def _ddes(plan: dict[str, Any]) -> dict[str, float]:
     b.set_transform_static(ts("base", "camera", 0, [0.1, 0, 0.3], [0, 0, 0, 1]), "bench")
     queries = [(f, Time.from_nsec(t)) for f, t in plan["queries"]]
     best_l = best_c = 0.0
-    for _ in range(5):
+    for _ in range(repeats(5)):
         t0 = time.process_time()
         for f, t in queries:
             b.lookup_transform_core("map", f, t)

@@ -1,37 +1,109 @@
-"""Run every benchmark and print one JSON object per line.
+"""Run every benchmark: one JSON object per line, then a table of every figure.
 
 Each line has at least ``name``, ``value``, ``unit``, ``baseline`` and
 ``ratio`` (ddes's value over the baseline's, both measured in this run, on
-this machine).  Benchmarks live in ``bench_*.py`` modules beside this file,
-each exposing ``benchmarks() -> list[dict]``.
+this machine).  Lines from an interleaved comparison (``common.compare``)
+also have the ratio's spread over the rounds (``ratio_min``/``ratio_max``,
+``rounds``) and, where a benchmark has one, the *fair* baseline (raw SimPy
+plus exactly the work the ROS semantics require) with ``fair_ratio`` and its
+spread.  All rates are per CPU second (``time.process_time``).  The first
+line, ``conditions``, records the machine's load when the run started and
+ended.  Benchmarks live in ``bench_*.py`` modules beside this file, each
+exposing ``benchmarks() -> list[dict]``.
 
     python benchmarks/run.py              # all
     python benchmarks/run.py time msg     # only bench_time.py and bench_msg.py
+    python benchmarks/run.py --tiny       # every benchmark at a tiny size (a smoke test)
+    python benchmarks/run.py --json       # JSON lines only, no table
 """
 
 from __future__ import annotations
 
 import importlib.util
 import json
+import os
+import platform
 import sys
+import time
+import traceback
 from pathlib import Path
+from typing import Any
 
 HERE = Path(__file__).resolve().parent
 
 
+def _load() -> list[float]:
+    try:
+        return [round(x, 2) for x in os.getloadavg()]
+    except OSError:  # pragma: no cover - not on Unix
+        return []
+
+
+def _spread(lo: Any, hi: Any) -> str:
+    return "" if lo is None or hi is None else f" [{lo:.3f}-{hi:.3f}]"
+
+
+def table(rows: list[dict[str, Any]]) -> str:
+    """Every figure of ``rows`` as an aligned text table."""
+    lines = [f"{'benchmark':<34} {'ddes':>14} {'unit':<18} {'ratio [min-max]':<22} "
+             f"{'fair ratio [min-max]':<22} baseline; fair baseline"]
+    for r in rows:
+        if r.get("name") == "conditions":
+            continue
+        if "error" in r:
+            lines.append(f"{r['name']:<34} ERROR {r['error']}")
+            continue
+        ratio = f"{r['ratio']:.3f}{_spread(r.get('ratio_min'), r.get('ratio_max'))}"
+        fair = ""
+        if r.get("fair_ratio") is not None:
+            fair = f"{r['fair_ratio']:.3f}{_spread(r.get('fair_ratio_min'), r.get('fair_ratio_max'))}"
+        names = r.get("baseline_name", "")
+        if r.get("fair_name"):
+            names += f"; {r['fair_name']}"
+        lines.append(f"{r['name']:<34} {r['value']:>14,.1f} {r['unit']:<18} {ratio:<22} "
+                     f"{fair:<22} {names}")
+    return "\n".join(lines)
+
+
 def main(argv: list[str]) -> int:
-    wanted = set(argv)
+    tiny = "--tiny" in argv
+    json_only = "--json" in argv
+    if tiny:
+        os.environ["DDES_BENCH_TINY"] = "1"
+    wanted = {a for a in argv if not a.startswith("--")}
+    sys.path.insert(0, str(HERE))
+    start = {"name": "conditions", "loadavg_start": _load(), "cpus": os.cpu_count(),
+             "python": platform.python_version(), "tiny": tiny, "clock": "process_time"}
+    print(json.dumps(start), flush=True)
+    rows: list[dict[str, Any]] = [start]
+    failed = 0
+    t0 = time.perf_counter()
     for path in sorted(HERE.glob("bench_*.py")):
         short = path.stem.removeprefix("bench_")
         if wanted and short not in wanted:
             continue
-        spec = importlib.util.spec_from_file_location(path.stem, path)
-        assert spec and spec.loader
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        for row in module.benchmarks():
+        try:
+            spec = importlib.util.spec_from_file_location(path.stem, path)
+            assert spec and spec.loader
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            found = module.benchmarks()
+        except Exception as exc:  # noqa: BLE001 - reported as a row; the run goes on
+            failed += 1
+            traceback.print_exc()
+            found = [{"name": f"bench_{short}", "error": f"{type(exc).__name__}: {exc}"}]
+        for row in found:
+            rows.append(row)
             print(json.dumps(row), flush=True)
-    return 0
+    end = {"name": "conditions_end", "loadavg_end": _load(),
+           "wall_s": round(time.perf_counter() - t0, 1)}
+    print(json.dumps(end), flush=True)
+    if not json_only:
+        print()
+        print(f"# load average at start {start['loadavg_start']}, at end {end['loadavg_end']}, "
+              f"{start['cpus']} CPUs; rates per CPU second, medians of interleaved rounds")
+        print(table(rows))
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
