@@ -25,11 +25,13 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import re
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
+from json.encoder import encode_basestring
 from operator import attrgetter
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
@@ -96,6 +98,152 @@ def canonical(value: object) -> object:
     if tolist is not None:
         return tolist()
     return repr(value)
+
+
+#: The canonical encoder of one value (the same options as :meth:`TraceEvent.to_json`).
+_VALUE_JSON = json.JSONEncoder(sort_keys=True, separators=(",", ":"), default=canonical,
+                               ensure_ascii=False)
+
+
+def _value(v: Any) -> str:
+    """The canonical JSON of one detail value, as it appears inside :meth:`TraceEvent.to_json`."""
+    tp = type(v)
+    if tp is str:
+        return encode_basestring(v)
+    if tp is int:
+        return int.__repr__(v)
+    if tp is bytes:
+        return '"sha256:' + hashlib.sha256(v).hexdigest() + '"'
+    if v is None:
+        return "null"
+    if tp is bool:
+        return "true" if v else "false"
+    if tp is float and math.isfinite(v):
+        return float.__repr__(v)
+    return _VALUE_JSON.encode(v)
+
+
+_Enc = Callable[[int, str, str, tuple[Any, ...]], str]
+_RowEnc = Callable[[Row], str]
+
+#: Encoders of dict-form details by key tuple: None where the keys cannot be encoded this way
+#: (not all str, or repeated), so the reference path does it.
+_ENCODERS: dict[tuple[Any, ...], _Enc | None] = {}
+
+
+def _slow(raw: Row) -> str:
+    """The reference path: :meth:`TraceEvent.to_json`."""
+    return _event(raw).to_json()
+
+
+def _make_encoder(keys: tuple[Any, ...], row_form: bool) -> Callable[..., str] | None:
+    """Generate a straight-line encoder of ``[t, kind, source, {sorted details}]`` for ``keys``.
+
+    It writes what ``json.dumps(..., sort_keys=True, separators=(",", ":"),
+    default=canonical, ensure_ascii=False)`` writes: keys in sorted order,
+    strings through json's own C escaper, exact ints with ``repr``, anything
+    else through :func:`_value`.  ``row_form``: it takes a whole
+    ``(t, kind, source, keys, *values)`` row and hands any row that is not
+    exactly that shape (int t, str kind and source, one value per key) to
+    the reference path; otherwise it takes ``(t, kind, source, values)``.
+    """
+    if not all(type(k) is str for k in keys) or len(set(keys)) != len(keys):
+        return None
+    parts = []
+    space: dict[str, Any] = {"S": encode_basestring, "T": type, "V": _value, "SLOW": _slow,
+                             "I": int.__repr__}
+    names = [f"v{i}" for i in range(len(keys))]
+    for n, i in enumerate(sorted(range(len(keys)), key=lambda j: keys[j])):
+        space[f"K{n}"] = encode_basestring(keys[i]) + ":"  # a constant, never source text
+        x = names[i] if row_form else f"v[{i}]"
+        parts.append(f"{{K{n}}}{{S({x}) if T({x}) is str else I({x}) if T({x}) is int else V({x})}}")
+    body = ",".join(parts)
+    consts = "".join(f", K{n}=K{n}" for n in range(len(keys)))
+    line = f"f'[{{t}},{{S(kind)}},{{S(source)}},{{{{{body}}}}}]'"
+    if row_form:
+        unpack = ", ".join(["t", "kind", "source", "_keys", *names]) + ("," if not names else "")
+        src = (f"def enc(r, S=S, I=I, T=T, V=V, SLOW=SLOW{consts}):\n"
+               f"    try:\n"
+               f"        {unpack} = r\n"
+               f"    except ValueError:\n"
+               f"        return SLOW(r)\n"
+               f"    if T(t) is not int or T(kind) is not str or T(source) is not str:\n"
+               f"        return SLOW(r)\n"
+               f"    return {line}\n")
+    else:
+        src = (f"def enc(t, kind, source, v, S=S, I=I, T=T, V=V{consts}):\n"
+               f"    return {line}\n")
+    exec(compile(src, f"<trace encoder {keys!r}>", "exec"), space)  # noqa: S102 - keys are checked str
+    enc: Callable[..., str] = space["enc"]
+    return enc
+
+
+#: Row-form encoders by ``id(keys)``, each with its key tuple (which keeps the id its own): call
+#: sites pass the same module-level tuple every time, and an int lookup skips hashing it.
+_BY_ID: dict[int, tuple[tuple[Any, ...], _RowEnc]] = {}
+
+
+def _row_encoder(keys: tuple[Any, ...]) -> _RowEnc:
+    entry = _BY_ID.get(id(keys))
+    if entry is not None and entry[0] is keys:
+        return entry[1]
+    enc: _RowEnc | None = None
+    try:
+        hash(keys)
+    except TypeError:  # unhashable keys (dict(zip()) would fail the same way in the reference)
+        return _slow
+    enc = _make_encoder(keys, row_form=True)
+    if enc is None:
+        enc = _slow
+    if len(_BY_ID) < 4096:
+        _BY_ID[id(keys)] = (keys, enc)
+    return enc
+
+
+def _line(raw: Row) -> str:
+    """The canonical JSON line of a stored row (without the address scrub: see :func:`_lines`)."""
+    if len(raw) == 4 and type(raw[3]) is not tuple:
+        details = raw[3]
+        if type(details) is not dict:
+            return _slow(raw)
+        keys: tuple[Any, ...] = tuple(details)
+        try:
+            enc = _ENCODERS[keys]
+        except KeyError:
+            enc = _ENCODERS[keys] = _make_encoder(keys, row_form=False)
+        except TypeError:
+            return _slow(raw)
+        if enc is None or type(raw[0]) is not int or type(raw[1]) is not str \
+                or type(raw[2]) is not str:
+            return _slow(raw)
+        return enc(raw[0], raw[1], raw[2], tuple(details.values()))
+    if type(raw[3]) is not tuple:
+        return _slow(raw)
+    return _row_encoder(raw[3])(raw)
+
+
+def _lines(rows: list[Row]) -> str:
+    """The canonical lines of ``rows``, each ending in a newline: what the digest hashes."""
+    if not rows:
+        return ""
+    get = _BY_ID.get
+    out: list[str] = []
+    append = out.append
+    for raw in rows:
+        entry = get(id(raw[3]))
+        if entry is not None and entry[0] is raw[3]:
+            append(entry[1](raw))
+        else:
+            append(_line(raw))
+    text = "\n".join(out)
+    text += "\n"
+    if " at 0x" in text:
+        text = _ADDRESS.sub(" at 0x…>", text)
+    return text
+
+
+#: Rows encoded per sha256 update when folding (bounds the text held at once).
+_FOLD_CHUNK = 16_384
 
 
 def _event(raw: Row) -> TraceEvent:
@@ -223,6 +371,8 @@ class Trace:
     __slots__ = (
         "_raw", "_counts", "_enabled", "_subscribers", "_notify", "_listeners",
         "_include", "_exclude", "_decisions", "_fast", "append_row", "record_fast",
+        "_hash", "_folded", "_bound", "_high", "_evicted", "_evicted_counts", "_spill",
+        "_spill_path",
     )
 
     #: ``append_row(row)``: append ``(t, kind, source, keys, *values)``, keys a tuple of names.
@@ -246,18 +396,40 @@ class Trace:
         self._exclude: tuple[frozenset[str], tuple[str, ...]] | None = None
         self._decisions: dict[str, bool] = {}
         self._fast = True
+        # The incremental digest: sha256 over the canonical lines of _raw[:_folded] and of
+        # every evicted row before them.
+        self._hash = hashlib.sha256()
+        self._folded = 0
+        # Bounded mode (see bound()): keep at most _bound rows; evict when _high is reached.
+        self._bound: int | None = None
+        self._high = 0
+        self._evicted = 0
+        self._evicted_counts: Counter[str] = Counter()
+        self._spill: IO[str] | None = None
+        self._spill_path: str | None = None
         self._rebind()
 
     # copy/deepcopy/pickle: append_row must be re-bound to the new object's own list
     # (copy.deepcopy treats a bound builtin method as atomic: it would keep appending
     # to the original list).
+    # The running sha256 cannot be pickled: a copy re-folds its rows from the start, which
+    # needs them all, so a bounded trace that has evicted rows cannot be copied.
     def __getstate__(self) -> dict[str, object]:
-        skip = {"append_row", "record_fast", "_notify", "_listeners", "_decisions", "_fast"}
+        if self._evicted:
+            raise DdesValueError(
+                f"cannot copy or pickle a bounded trace that has evicted {self._evicted} rows "
+                "(its digest state lives in a running sha256); copy the world before "
+                "trace.bound(...) evicts, or keep the trace unbounded")
+        skip = {"append_row", "record_fast", "_notify", "_listeners", "_decisions", "_fast",
+                "_hash", "_folded", "_spill"}
         return {name: getattr(self, name) for name in self.__slots__ if name not in skip}
 
     def __setstate__(self, state: dict[str, object]) -> None:
         for name, value in state.items():
             setattr(self, name, value)
+        self._hash = hashlib.sha256()
+        self._folded = 0
+        self._spill = None
         self._rebind()
 
     # -- state that decides the hot path ---------------------------------------------
@@ -267,8 +439,14 @@ class Trace:
         self._notify = tuple(self._subscribers)
         self._listeners = self._notify + ((_filter_active_marker,) if filtered else ())
         self._decisions = {}
-        self._fast = self._enabled and not self._notify and not filtered
-        fn: Callable[[Row], None] = self._raw.append if self._fast else self._append_checked
+        self._fast = self._enabled and not self._notify and not filtered and self._bound is None
+        fn: Callable[[Row], None]
+        if self._fast:
+            fn = self._raw.append
+        elif self._enabled and not self._notify and not filtered:
+            fn = self._append_bounded
+        else:
+            fn = self._append_checked
         self.append_row = fn
         self.record_fast = fn
 
@@ -311,13 +489,103 @@ class Trace:
         """append_row when something is active: enabled flag, filter, listeners."""
         kind = row[1]
         if self._enabled and (self._include is None and self._exclude is None or self._keep(kind)):
-            self._raw.append(row)
+            raw = self._raw
+            raw.append(row)
             if self._notify:
                 ev = _event(row)
                 for listener in self._notify:
                     listener(ev)
+            if self._bound is not None and len(raw) >= self._high:
+                self._evict()
         else:
             self._counts[kind] = self._counts.get(kind, 0) + 1
+
+    def _append_bounded(self, row: Row) -> None:
+        """append_row of a bounded trace with nothing else active."""
+        raw = self._raw
+        raw.append(row)
+        if len(raw) >= self._high:
+            self._evict()
+
+    # -- bounded mode ----------------------------------------------------------------
+
+    def bound(self, max_rows: int | None, spill: str | None = None) -> None:
+        """Keep at most ``max_rows`` recent rows in memory; ``bound(None)`` keeps all again.
+
+        Older rows are folded into the digest and dropped (evicted) in chunks,
+        so memory stays flat however long the run; :meth:`digest` still
+        covers every event of the run, exactly as if nothing had been
+        dropped.  With ``spill`` (a path), the evicted rows' canonical JSON
+        lines are appended to that file as they leave memory (the file starts
+        empty; :meth:`close_spill` flushes and closes it), so
+        ``spill`` + :meth:`lines` of what remains is :meth:`dump`'s output.
+        Reading (iterating, :meth:`select`, ``len``) sees the rows still in
+        memory; :attr:`counts` and :attr:`total` count every row.
+        """
+        if max_rows is not None and (isinstance(max_rows, bool) or not isinstance(max_rows, int)
+                                     or max_rows < 1):
+            raise DdesValueError(f"bound(max_rows) takes None or an int >= 1, got {max_rows!r}; "
+                                 "e.g. trace.bound(1_000_000)")
+        if spill is not None and max_rows is None:
+            raise DdesValueError("bound(None, spill=...) has nothing to spill: give max_rows too")
+        self.close_spill()
+        self._bound = max_rows
+        # Evict in chunks of a quarter of the bound (at least 1): amortised O(1) per row.
+        self._high = 0 if max_rows is None else max_rows + max(1, max_rows // 4)
+        if spill is not None:
+            self._spill = open(spill, "w", encoding="utf-8")  # noqa: SIM115 - closed by close_spill
+            self._spill_path = spill
+        self._rebind()
+        if max_rows is not None and len(self._raw) >= self._high:
+            self._evict()
+
+    @property
+    def bounded(self) -> int | None:
+        """The ``max_rows`` of :meth:`bound`, or None when every row is kept."""
+        return self._bound
+
+    @property
+    def evicted(self) -> int:
+        """Rows a bounded trace has dropped from memory (all of them are in the digest)."""
+        return self._evicted
+
+    @property
+    def total(self) -> int:
+        """Every stored row of the run: those in memory plus those evicted."""
+        return self._evicted + len(self._raw)
+
+    def close_spill(self) -> None:
+        """Flush and close the spill file of :meth:`bound` (no-op without one)."""
+        if self._spill is not None:
+            self._spill.close()
+            self._spill = None
+
+    def _fold(self, upto: int) -> None:
+        """Fold ``_raw[_folded:upto]`` into the running digest."""
+        raw, h, spill = self._raw, self._hash, self._spill
+        i = self._folded
+        while i < upto:
+            j = min(upto, i + _FOLD_CHUNK)
+            text = _lines(raw[i:j])
+            h.update(text.encode("utf-8"))
+            if spill is not None:
+                spill.write(text)
+            i = j
+        self._folded = max(self._folded, upto)
+
+    def _evict(self) -> None:
+        """Drop the oldest rows down to the bound, folding them into the digest first."""
+        assert self._bound is not None
+        raw = self._raw
+        k = len(raw) - self._bound
+        if k <= 0:
+            return
+        if self._folded < k:
+            self._fold(k)
+        self._evicted_counts.update([r[1] for r in raw[:k]])
+        del raw[:k]  # in place: append_row may be bound to raw.append
+        self._folded -= k
+        self._evicted += k
 
     # -- writing ---------------------------------------------------------------------
 
@@ -400,6 +668,7 @@ class Trace:
     def counts(self) -> Counter[str]:
         """How many events of each kind were recorded (stored or only counted)."""
         out: Counter[str] = Counter(raw[1] for raw in self._raw)
+        out.update(self._evicted_counts)
         out.update(self._counts)
         return out
 
@@ -548,9 +817,11 @@ class Trace:
     # -- the canonical form ----------------------------------------------------------
 
     def lines(self) -> Iterator[str]:
-        """The canonical JSON line of every stored event."""
-        for ev in self:
-            yield ev.to_json()
+        """The canonical JSON line of every stored event (still in memory)."""
+        raw = self._raw
+        for i in range(0, len(raw), _FOLD_CHUNK):
+            # split on "\n" only: a line may hold U+2028 or U+0085 (not escaped by json)
+            yield from _lines(raw[i:i + _FOLD_CHUNK])[:-1].split("\n")
 
     def digest(self) -> str:
         """sha256 (hex) over the canonical form of every stored event.
@@ -564,14 +835,25 @@ class Trace:
                 "cannot digest this trace: it does not hold every event of the run "
                 f"({self._incomplete_reason()}); record everything (trace.enabled = True and "
                 "trace.set_filter() before running) to digest a run")
-        h = hashlib.sha256()
-        for line in self.lines():
-            h.update(line.encode("utf-8"))
-            h.update(b"\n")
+        if self._spill is None:
+            self._fold(len(self._raw))
+            return self._hash.hexdigest()
+        # A spilling trace writes a row to its file only when it is evicted: fold the rows
+        # still in memory into a copy, leaving them to be spilled later.
+        h = self._hash.copy()
+        h.update(_lines(self._raw[self._folded:]).encode("utf-8"))
         return h.hexdigest()
 
     def dump(self, path: str) -> None:
-        """Write the canonical JSON lines to ``path``."""
+        """Write the canonical JSON lines to ``path``.
+
+        A bounded trace that has evicted rows no longer holds them: it raises
+        ``DdesValueError`` (bound it with ``spill=path`` to keep them on disk).
+        """
+        if self._evicted:
+            raise DdesValueError(
+                f"cannot dump this trace: it is bounded and has evicted {self._evicted} rows; "
+                "pass spill=PATH to trace.bound(...) to stream every row to a file")
         with open(path, "w", encoding="utf-8") as f:
             for line in self.lines():
                 f.write(line + "\n")
