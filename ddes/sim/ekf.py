@@ -150,25 +150,39 @@ class PlanarEkf:
         x[2] = wrap(yaw + vyaw * delta)
         x[3] = vx + ax * delta
         x[4] = vy + ay * delta
-        # its Jacobian J: identity plus these entries
+        # its Jacobian J: identity plus the entries of rows 0-4 below; P' = J P Jᵀ + delta·Q
         jxy = (-s * vx - c * vy) * delta + (-s * ax - c * ay) * half
         jyy = (c * vx - s * vy) * delta + (c * ax - s * ay) * half
         cd, sd, ch, sh = c * delta, s * delta, c * half, s * half
-        jrows: list[list[tuple[int, float]]] = [
-            [(0, 1.0), (2, jxy), (3, cd), (4, -sd), (6, ch), (7, -sh)],
-            [(1, 1.0), (2, jyy), (3, sd), (4, cd), (6, sh), (7, ch)],
-            [(2, 1.0), (5, delta)],
-            [(3, 1.0), (6, delta)],
-            [(4, 1.0), (7, delta)],
-            [(5, 1.0)],
-            [(6, 1.0)],
-            [(7, 1.0)],
-        ]
         p = self.P
-        jp = [[sum(v * p[k][j] for k, v in row) for j in range(N)] for row in jrows]
+        p0, p1, p2, p3, p4, p5, p6, p7 = p
+        jp = [
+            [a + jxy * b + cd * c_ - sd * d + ch * e - sh * f
+             for a, b, c_, d, e, f in zip(p0, p2, p3, p4, p6, p7)],
+            [a + jyy * b + sd * c_ + cd * d + sh * e + ch * f
+             for a, b, c_, d, e, f in zip(p1, p2, p3, p4, p6, p7)],
+            [a + delta * b for a, b in zip(p2, p5)],
+            [a + delta * b for a, b in zip(p3, p6)],
+            [a + delta * b for a, b in zip(p4, p7)],
+            list(p5), list(p6), list(p7),
+        ]
         q = self.q
-        self.P = [[sum(v * jp[i][k] for k, v in jrows[j]) + delta * q[i][j] for j in range(N)]
-                  for i in range(N)]
+        out = []
+        for i in range(N):
+            r = jp[i]
+            r0, r1, r2, r3, r4, r5, r6, r7 = r
+            qi = q[i]
+            out.append([
+                r0 + jxy * r2 + cd * r3 - sd * r4 + ch * r6 - sh * r7 + delta * qi[0],
+                r1 + jyy * r2 + sd * r3 + cd * r4 + sh * r6 + ch * r7 + delta * qi[1],
+                r2 + delta * r5 + delta * qi[2],
+                r3 + delta * r6 + delta * qi[3],
+                r4 + delta * r7 + delta * qi[4],
+                r5 + delta * qi[5],
+                r6 + delta * qi[6],
+                r7 + delta * qi[7],
+            ])
+        self.P = out
 
     # -- Ekf::correct --------------------------------------------------------------------------
     def correct(self, z: dict[int, float], cov: dict[tuple[int, int], float],
@@ -195,22 +209,21 @@ class PlanarEkf:
             sy = [sum(s_inv[a][b] * y[b] for b in range(m)) for a in range(m)]
             if sum(y[a] * sy[a] for a in range(m)) >= threshold * threshold:
                 return False
-        k_gain = [[sum(pht[i][c] * s_inv[c][b] for c in range(m)) for b in range(m)]
-                  for i in range(N)]
+        rng_m = range(m)
+        k_gain = [[sum(row[c] * s_inv[c][b] for c in rng_m) for b in rng_m] for row in pht]
         for i in range(N):
-            x[i] += sum(k_gain[i][b] * y[b] for b in range(m))
-        # Joseph form: (I - K H) P (I - K H)ᵀ + K R Kᵀ
-        a_mat = [[(1.0 if i == j else 0.0) for j in range(N)] for i in range(N)]
+            ki = k_gain[i]
+            x[i] += sum(ki[b] * y[b] for b in rng_m)
+        # Joseph form (I - K H) P (I - K H)ᵀ + K R Kᵀ, expanded with H a selection:
+        # P - K (H P) - (P Hᵀ) Kᵀ + K (H P Hᵀ + R) Kᵀ
+        ks = [[sum(ki[c] * s[c][b] for c in rng_m) for b in rng_m] for ki in k_gain]
+        new = []
         for i in range(N):
-            row = a_mat[i]
-            for b, j in enumerate(idx):
-                row[j] -= k_gain[i][b]
-        ap = [[sum(a_mat[i][k] * p[k][j] for k in range(N)) for j in range(N)] for i in range(N)]
-        kr = [[sum(k_gain[i][c] * r[c][b] for c in range(m)) for b in range(m)]
-              for i in range(N)]
-        self.P = [[sum(ap[i][k] * a_mat[j][k] for k in range(N))
-                   + sum(kr[i][b] * k_gain[j][b] for b in range(m))
-                   for j in range(N)] for i in range(N)]
+            ki, phi, ksi, pi = k_gain[i], pht[i], ks[i], p[i]
+            new.append([pi[j] - sum(ki[b] * pht[j][b] + phi[b] * k_gain[j][b]
+                                    - ksi[b] * k_gain[j][b] for b in rng_m)
+                        for j in range(N)])
+        self.P = new
         x[_YAW] = wrap(x[_YAW])
         return True
 

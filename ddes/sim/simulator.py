@@ -546,9 +546,11 @@ class Simulator:
     def _odometry(self) -> None:
         v, w = self._v, self._w
         if self.noise and (v != 0.0 or w != 0.0):
-            rng = self._rng_odom
-            vm = v * (1.0 + self._slip_v) + _gauss(rng, 0.01 * abs(v))
-            wm = w * (1.0 + self._slip_w) + _gauss(rng, 0.02 * abs(w) + 0.002)
+            r = self._rng_odom.random  # two _gauss(rng, sigma) draws, inlined in the same order
+            vm = v * (1.0 + self._slip_v) + 0.01 * abs(v) * (
+                (r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r()) - 6.0)
+            wm = w * (1.0 + self._slip_w) + (0.02 * abs(w) + 0.002) * (
+                (r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r() + r()) - 6.0)
         else:
             vm, wm = v, w
         if not self.noise:  # odometry equals the truth, pose included

@@ -239,7 +239,7 @@ class BufferCore:
                       f'TF_NO_FRAME_ID: Ignoring transform with child_frame_id "{child}"  from '
                       f'authority "{authority}" because frame_id not set')
             error = True
-        if any(math.isnan(v) for v in (tx, ty, tz, qx, qy, qz, qw)):
+        if tx != tx or ty != ty or tz != tz or qx != qx or qy != qy or qz != qz or qw != qw:
             self._log(logging.ERROR,
                       f'TF_NAN_INPUT: Ignoring transform for child_frame_id "{child}" from '
                       f'authority "{authority}" because of a nan value in the transform '
@@ -830,6 +830,35 @@ class BufferCore:
         if isinstance(cache, StaticCache):
             return [cache.storage]
         return list(cache.entries)
+
+    def _set_transform_fast(self, frame_id: str, child: str, stamp: int, tx: float, ty: float,
+                            tz: float, qx: float, qy: float, qz: float, qw: float,
+                            authority: str) -> bool:
+        """The insertion of :meth:`set_transform` from plain values (a TransformListener's parsed
+        /tf bytes), when every check passes: True if inserted; False, with nothing changed and
+        nothing logged, when a check or the cache refuses it (the caller then goes the checked way,
+        which logs tf2's line)."""
+        if frame_id[:1] == "/":
+            frame_id = frame_id[1:]
+        if child[:1] == "/":
+            child = child[1:]
+        if (child == frame_id or not child or not frame_id or tx != tx or ty != ty or tz != tz
+                or qx != qx or qy != qy or qz != qz or qw != qw
+                or not abs((qw * qw + qx * qx + qy * qy + qz * qz) - 1.0)
+                < QUATERNION_NORMALIZATION_TOLERANCE):
+            return False
+        ids = self._ids
+        child_id = ids.get(child)
+        parent_id = ids.get(frame_id)
+        if child_id is None or parent_id is None:
+            return False  # a new frame: the checked way numbers the frames in tf2's order
+        cache = self._frames[child_id]
+        if cache is None or cache.__class__ is not TimeCache:
+            return False
+        if cache.insert((stamp, parent_id, child_id, tx, ty, tz, qx, qy, qz, qw)) is not None:
+            return False  # the cache changed nothing (old or repeated data)
+        self._authority[child_id] = authority
+        return True
 
     def __repr__(self) -> str:
         return f"<ddes.tf2.BufferCore {len(self._names) - 1} frames>"

@@ -139,6 +139,16 @@ class Buffer(BufferCore):
             self._wake()
         return result
 
+    def _set_transform_fast(self, frame_id: str, child: str, stamp: int, tx: float, ty: float,
+                            tz: float, qx: float, qy: float, qz: float, qw: float,
+                            authority: str) -> bool:
+        """BufferCore's unchecked-path insertion; a wait it satisfies succeeds now."""
+        done = BufferCore._set_transform_fast(self, frame_id, child, stamp, tx, ty, tz, qx, qy, qz,
+                                              qw, authority)
+        if done and self._waiters:
+            self._wake()
+        return done
+
     def _check(self, w: _Waiter) -> tuple[bool, str]:
         if w.full:
             return self.can_transform_full_core(*w.args)  # type: ignore[no-any-return]

@@ -11,6 +11,12 @@ As everywhere in ddes the node comes first: ``TransformListener(node, buffer)``,
   the last message (``rosbag play --loop``, a ``/clock`` restart) it logs ``Detected jump back in
   time of %fs. Clearing TF buffer.`` (rospy's text; a roscpp node logs tf2_ros C++'s ``Detected
   jump back in time. Clearing TF buffer.``) and clears the buffer first.
+* ``/tf`` is received as bytes (a TFMessage subclass that keeps them and reads ``transforms``
+  from them when first used) and parsed straight into the buffer's values, with no message
+  objects; a
+  transform that a check or the cache refuses, an unparsable message, a Buffer whose
+  ``set_transform`` or a listener whose ``callback`` is overridden go the message way
+  (``callback(msg)``, ``set_transform``), so results, logs and order are the same.
 * ``TransformBroadcaster`` publishes on ``/tf`` (queue 100); ``sendTransform`` takes one
   TransformStamped or a list.
 * ``StaticTransformBroadcaster`` publishes latched on ``/tf_static`` (queue 100) and, as the C++
@@ -20,11 +26,13 @@ As everywhere in ddes the node comes first: ``TransformListener(node, buffer)``,
 
 from __future__ import annotations
 
+import struct
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesTypeError
 from ddes.graph.topics import Publisher, Subscriber
 from ddes.time.rospy_calls import is_node_like
+from ddes.time.rostime import Time
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -57,8 +65,9 @@ class TransformListener:
             attach(node)
         tf_message = node.world.messages.get_message_class("tf2_msgs/TFMessage")
         self.last_update = node.get_rostime()
-        self.tf_sub = Subscriber(node, "/tf", tf_message, self.callback, queue_size=queue_size,
-                                 buff_size=buff_size, tcp_nodelay=tcp_nodelay)
+        self.tf_sub = Subscriber(node, "/tf", _lazy_class(tf_message), self._on_tf,
+                                 queue_size=queue_size, buff_size=buff_size,
+                                 tcp_nodelay=tcp_nodelay)
         self.tf_static_sub = Subscriber(node, "/tf_static", tf_message, self.static_callback,
                                         queue_size=queue_size, buff_size=buff_size,
                                         tcp_nodelay=tcp_nodelay)
@@ -68,17 +77,31 @@ class TransformListener:
         self.tf_sub.unregister()
         self.tf_static_sub.unregister()
 
+    @property
+    def last_update(self) -> Time:
+        """The ROS time of the last message (rospy's attribute)."""
+        return Time._from_ns(self._last_ns)
+
+    @last_update.setter
+    def last_update(self, value: Time) -> None:
+        self._last_ns = value.secs * 1_000_000_000 + value.nsecs
+
     def check_for_reset(self) -> None:
         """Clear the buffer when ROS time went back since the last message (rospy's text)."""
-        now = self.node.get_rostime()
-        if now < self.last_update:
+        try:
+            now_ns = self.node.clock.now_ns()
+        except AttributeError:  # a node-like without a clock
+            t = self.node.get_rostime()
+            now_ns = t.secs * 1_000_000_000 + t.nsecs
+        if now_ns < self._last_ns:
+            now = Time._from_ns(now_ns)
             if self.node.client_library == "roscpp":
                 self.node.logwarn("Detected jump back in time. Clearing TF buffer.")
             else:
                 self.node.logwarn("Detected jump back in time of %fs. Clearing TF buffer.",
                                   (self.last_update - now).to_sec())
             self.buffer.clear()
-        self.last_update = now
+        self._last_ns = now_ns
 
     def callback(self, data: Any) -> None:
         """/tf: each transform into the buffer, the publisher's caller id as authority."""
@@ -87,12 +110,118 @@ class TransformListener:
         for transform in data.transforms:
             self.buffer.set_transform(transform, who)
 
+    def _on_tf(self, data: Any) -> None:
+        """/tf as bytes: parsed straight into the buffer when nothing is overridden."""
+        buf = self.buffer
+        if type(self).callback is not TransformListener.callback or not _plain(buf):
+            self.callback(data)  # its transforms are read from the bytes when used
+            return
+        items = _parse_tf(data._buff)
+        if items is None:
+            self.callback(data)  # the message way raises what is wrong
+            return
+        self.check_for_reset()
+        who = _authority(data)
+        fast = buf._set_transform_fast
+        for k, item in enumerate(items):
+            if not fast(*item, who):
+                buf.set_transform(data.transforms[k], who)
+
     def static_callback(self, data: Any) -> None:
         """/tf_static: each transform into the buffer's static store."""
         self.check_for_reset()
         who = _authority(data)
         for transform in data.transforms:
             self.buffer.set_transform_static(transform, who)
+
+
+_U32 = struct.Struct("<I")
+_HEADER = struct.Struct("<3II")
+_SEVEN = struct.Struct("<7d")
+
+
+def _parse_tf(data: bytes) -> list[tuple[str, str, int, float, float, float, float, float,
+                                          float, float]] | None:
+    """A TFMessage's transforms as (frame_id, child, stamp ns, tx, ty, tz, qx, qy, qz, qw); None
+    when the bytes do not parse exactly (trailing bytes included)."""
+    try:
+        (count,), o = _U32.unpack_from(data, 0), 4
+        out = []
+        for _ in range(count):
+            _seq, secs, nsecs, n = _HEADER.unpack_from(data, o)
+            o += 16
+            if o + n > len(data):
+                return None
+            frame = data[o:o + n].decode("utf-8", "replace")
+            o += n
+            (n,) = _U32.unpack_from(data, o)
+            o += 4
+            if o + n > len(data):
+                return None
+            child = data[o:o + n].decode("utf-8", "replace")
+            o += n
+            tx, ty, tz, qx, qy, qz, qw = _SEVEN.unpack_from(data, o)
+            o += 56
+            out.append((frame, child, secs * 1_000_000_000 + nsecs, tx, ty, tz, qx, qy, qz, qw))
+    except struct.error:
+        return None
+    return out if o == len(data) else None
+
+
+_PLAIN: list[object] = []
+
+
+def _plain(buf: Any) -> bool:
+    """True for a BufferCore/Buffer whose ``set_transform`` is not overridden."""
+    if not _PLAIN:
+        from ddes.tf2 import BufferCore
+        from ddes.tf2_ros.buffer import Buffer
+
+        _PLAIN.extend((Buffer.set_transform, BufferCore.set_transform))
+    return (getattr(type(buf), "set_transform", None) in _PLAIN
+            and "set_transform" not in getattr(buf, "__dict__", ()))
+
+
+_LAZY: dict[type, type] = {}
+
+
+def _lazy_class(tf_message: type) -> type:
+    """A subclass of ``tf_message`` whose instances keep their wire bytes: ``transforms`` is read
+    from them when first used, and until it is set they serialize as those bytes."""
+    lazy = _LAZY.get(tf_message)
+    if lazy is None:
+        base_deserialize = tf_message._deserialize_from  # type: ignore[attr-defined]
+        base_serialize = tf_message._serialize_to_bytes  # type: ignore[attr-defined]
+        slot = tf_message.__dict__["transforms"]
+
+        def deserialize_from(self: Any, data: bytes) -> Any:
+            self._buff = bytes(data)
+            return self
+
+        def getattr_(self: Any, name: str) -> Any:
+            # reached only for an unset slot: `transforms` of a message kept as bytes
+            if name == "transforms":
+                try:
+                    buff = object.__getattribute__(self, "_buff")
+                except AttributeError:
+                    raise AttributeError(name) from None
+                base_deserialize(self, buff)
+                return slot.__get__(self, None)
+            raise AttributeError(name)
+
+        def serialize_to_bytes(self: Any) -> bytes:
+            try:
+                slot.__get__(self, None)
+            except AttributeError:  # never read or set: the bytes as received
+                return object.__getattribute__(self, "_buff")  # type: ignore[no-any-return]
+            return base_serialize(self)  # type: ignore[no-any-return]
+
+        lazy = type(tf_message)("TFMessageBytes", (tf_message,), {
+            "__slots__": ("_buff",), "__module__": __name__,
+            "_deserialize_from": deserialize_from, "__getattr__": getattr_,
+            "_serialize_to_bytes": serialize_to_bytes})
+        _LAZY[tf_message] = lazy
+    return lazy
 
 
 def _authority(data: Any) -> str:

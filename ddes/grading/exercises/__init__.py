@@ -9,9 +9,10 @@ from ddes.grading.exercises.ex3_pillar import EX3
 from ddes.grading.exercises.ex4a_services import EX4A
 from ddes.grading.exercises.ex4b_actions import EX4B
 from ddes.grading.exercises.ex4c_time import EX4C
+from ddes.grading.exercises.ex4d_bags import EX4D
 from ddes.grading.exercises.ex5_safety import EX5
 
-for _ex in (EX1, EX2, EX3, EX4A, EX4B, EX4C, EX5):
+for _ex in (EX1, EX2, EX3, EX4A, EX4B, EX4C, EX4D, EX5):
     REGISTRY.register(_ex)
 
-__all__ = ["EX1", "EX2", "EX3", "EX4A", "EX4B", "EX4C", "EX5"]
+__all__ = ["EX1", "EX2", "EX3", "EX4A", "EX4B", "EX4C", "EX4D", "EX5"]
