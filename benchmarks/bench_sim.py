@@ -23,7 +23,7 @@ import time
 from typing import Any
 
 import simpy
-from common import row
+from common import TINY, repeats, row
 
 import ddes
 from ddes.msg import get_message_class
@@ -43,8 +43,8 @@ from ddes.sim.geometry import LaserGeometry, collides, prepare, wrap_angle
 from ddes.sim.noise import gauss as _gauss
 from ddes.sim.noise import scan_ranges
 
-SIM_SECONDS = 60.0
-REPEAT = 5
+SIM_SECONDS = 0.5 if TINY else 60.0
+REPEAT = repeats(5)
 DT_NS = 10_000_000
 
 
