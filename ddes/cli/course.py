@@ -7,7 +7,8 @@ when a file of ``exercises/`` is out of date (each is named), 0 when all are cur
 
 ``make-bag`` drives the simulator (seed 2021 unless ``--seed``) and records
 ``smb_navigation.bag`` (default: ``./smb_navigation.bag``), the same bytes on every run
-(:mod:`ddes.grading.kitbag`).
+(:mod:`ddes.grading.kitbag`); ``--plot PNG`` also draws robot_localization's EKF on it against
+the simulator's ground truth (docs/localization.md).
 """
 
 from __future__ import annotations
@@ -28,6 +29,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="only these exercises (default: all); make-bag: the bag's path")
     p.add_argument("--seed", type=int, default=None,
                    help="make-bag: the drive's seed (default: 2021, the kit's)")
+    p.add_argument("--plot", metavar="PNG", default=None,
+                   help="make-bag: also plot the EKF's x/y on the bag against the simulator's "
+                        "ground truth")
     p.add_argument("--check", action="store_true",
                    help="write nothing; exit 1 naming every out-of-date file")
     p.add_argument("--root", default=".", help="the repository root (default: .)")
@@ -65,7 +69,7 @@ def run_course(args: argparse.Namespace) -> int:
 
 def _make_bag(args: argparse.Namespace) -> int:
     from ddes.errors import DdesError
-    from ddes.grading.kitbag import KIT_SEED, make_bag
+    from ddes.grading.kitbag import KIT_SEED, make_bag, plot_localization
 
     if len(args.exercise) > 1:
         print("ddes course make-bag: give one path, got " + " ".join(args.exercise),
@@ -80,4 +84,9 @@ def _make_bag(args: argparse.Namespace) -> int:
         return 2
     counts = ", ".join(f"{topic} {n}" for topic, n in kit.counts.items())
     print(f"wrote {path} (seed {seed}): {counts}")
+    if args.plot:
+        e = plot_localization(kit, args.plot)
+        print(f"wrote {args.plot}: EKF position error vs ground truth final {e.ekf_final:.3f} m, "
+              f"max {e.ekf_max:.3f} m; wheel odometry final {e.odom_final:.3f} m, "
+              f"max {e.odom_max:.3f} m")
     return 0

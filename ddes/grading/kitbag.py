@@ -31,8 +31,8 @@ from typing import Any
 
 from ddes.errors import DdesValueError
 
-__all__ = ["DURATION", "KIT_SEED", "STAMP_OFFSET", "TOPICS", "KitBag", "drive_script",
-           "make_bag"]
+__all__ = ["DURATION", "KIT_CONFIG", "KIT_SEED", "STAMP_OFFSET", "TOPICS", "KitBag", "TrackErrors",
+           "drive_script", "ekf_track", "make_bag", "plot_localization"]
 
 KIT_SEED = 2021
 #: Seconds added to every stamp: 2021-02-03 09:41:18 UTC.
@@ -93,6 +93,7 @@ def make_bag(path: str | Path, seed: int = KIT_SEED) -> KitBag:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     world = ddes.World(seed=seed)
+    world.log_output = False
     world.use_sim_time = True
     sim = Simulator(world, WorldSpec.load("single_pillar"), imu_rate=20.0, pointcloud=True,
                     joint_states=True, publish_odom_tf=False,
@@ -150,3 +151,128 @@ def make_bag(path: str | Path, seed: int = KIT_SEED) -> KitBag:
     result.truth = [(t, x, y, yaw) for t, x, y, yaw in zip(hist.t_ns, hist.x, hist.y, hist.yaw)
                     if 0 < t <= limit_ns]
     return result
+
+
+def ekf_track(path: str | Path, config: dict[str, Any] | None = None
+              ) -> list[tuple[int, float, float, float]]:
+    """``(stamp ns, x, y, yaw)`` of robot_localization's EKF on the bag at ``path``, after each
+    of its ``frequency`` updates: the bundled filter node driven directly with the bag's
+    messages, its updates at the bag times a ``rosbag play --clock`` run gives them, the robot's
+    fixed frames (``ddes_sim/robot_frames``) in its buffer.  ``config``: the node's private
+    parameters (default: the kit's ``localization.yaml``)."""
+    from ddes.graph.world import World
+    from ddes.graph.yamlsafe import load_yaml
+    from ddes.rosbag import Bag
+    from ddes.sim.frames import FRAMES
+    from ddes.sim.localization import EkfLocalizationNode
+
+    if config is None:
+        config = load_yaml(KIT_CONFIG.read_text(encoding="utf-8"))
+    world = World(0, wall_budget=None)
+    world.log_output = False
+    world.use_sim_time = True
+    for key, value in config.items():
+        world.params.set_param(f"/ekf_localization/{key}", value)
+    ekf = EkfLocalizationNode(world.create_node("/ekf_localization", disable_rosout=True))
+    ts = world.messages.get_message_class("geometry_msgs/TransformStamped")
+    for child, (fx, fy, fz) in FRAMES.items():
+        t = ts()
+        t.header.frame_id, t.child_frame_id = "base_link", child
+        t.transform.translation.x, t.transform.translation.y = fx, fy
+        t.transform.translation.z = fz
+        t.transform.rotation.w = 1.0
+        ekf.buffer.set_transform_static(t, "/robot_state_publisher")
+    route = {"/" + s.topic.lstrip("/"): s for s in ekf.sensors}
+    period = round(1e9 / ekf.frequency)
+    track: list[tuple[int, float, float, float]] = []
+    f = ekf.filter
+
+    def update(now: int) -> None:
+        ekf.integrate(now)
+        if f.initialized:
+            track.append((f.last_ns, f.x[0], f.x[1], f.x[2]))
+
+    tick: int | None = None
+    with Bag(str(path)) as bag:
+        for topic, msg, when in bag.read_messages(topics=sorted(route)):
+            now = when.to_nsec()
+            if tick is None:
+                tick = now + period
+            while tick <= now:
+                update(tick)
+                tick += period
+            sensor = route[topic]
+            if sensor.key.startswith("imu"):
+                ekf._on_imu(msg, sensor)
+            else:
+                ekf._on_odom(msg, sensor)
+    if tick is not None:
+        update(tick)
+    return track
+
+
+#: The kit's EKF configuration (SMB's localization.yaml, as ``ddes_sim`` ships it).
+KIT_CONFIG = Path(__file__).resolve().parents[1] / "packages" / "ddes_sim" / "config" \
+    / "localization.yaml"
+
+
+@dataclass
+class TrackErrors:
+    """Position errors (m) against the truth, at the truth's 10 Hz samples."""
+
+    ekf_final: float
+    ekf_max: float
+    odom_final: float
+    odom_max: float
+
+
+def plot_localization(kit: KitBag, png: str | Path) -> TrackErrors:
+    """Plot the EKF's x/y on the kit bag against the simulator's truth and the wheel odometry
+    (``png``), and return the position errors."""
+    import math
+
+    from ddes.display.figure import new_figure
+    from ddes.rosbag import Bag
+
+    track = ekf_track(kit.path)
+    odom: list[tuple[int, float, float]] = []
+    with Bag(str(kit.path)) as bag:
+        for _topic, msg, when in bag.read_messages(topics=["/smb_velocity_controller/odom"]):
+            p = msg.pose.pose.position  # type: ignore[union-attr]
+            odom.append((when.to_nsec(), p.x, p.y))
+    offset = STAMP_OFFSET * 1_000_000_000
+
+    def at(series: list[Any], t_ns: int) -> Any:
+        """The last sample at or before ``t_ns`` (series sorted by time)."""
+        lo, hi = 0, len(series)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if series[mid][0] <= t_ns:
+                lo = mid + 1
+            else:
+                hi = mid
+        return series[max(lo - 1, 0)]
+
+    ekf_err, odom_err = [], []
+    for t, x, y, _yaw in kit.truth:
+        e = at(track, t + offset)
+        o = at(odom, t + offset)
+        ekf_err.append(math.hypot(e[1] - x, e[2] - y))
+        odom_err.append(math.hypot(o[1] - x, o[2] - y))
+    errors = TrackErrors(ekf_err[-1], max(ekf_err), odom_err[-1], max(odom_err))
+    fig = new_figure(figsize=(7.0, 6.0))
+    ax = fig.add_subplot(1, 1, 1)
+    ax.plot([x for _t, x, _y, _w in kit.truth], [y for _t, _x, y, _w in kit.truth], "k-",
+            lw=2.5, label="simulator ground truth")
+    ax.plot([x for _t, x, _y in odom], [y for _t, _x, y in odom], "C1--", lw=1.2,
+            label=f"wheel odometry (final error {errors.odom_final:.2f} m)")
+    ax.plot([x for _t, x, _y, _w in track], [y for _t, _x, y, _w in track], "C0-", lw=1.2,
+            label=f"EKF /odometry/filtered (final error {errors.ekf_final:.2f} m)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m] (odom)")
+    ax.set_ylabel("y [m] (odom)")
+    ax.set_title(f"robot_localization EKF on the kit bag (seed {kit.seed})")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    fig.savefig(str(png), dpi=90, metadata={"Software": None})
+    return errors

@@ -12,11 +12,13 @@ import pytest
 
 import ddes
 from ddes.cli.main import main
-from ddes.grading.kitbag import STAMP_OFFSET, TOPICS, drive_script, make_bag
+from ddes.grading.kitbag import STAMP_OFFSET, TOPICS, drive_script, make_bag, plot_localization
 from ddes.msg import get_message_class
 from ddes.rosbag import Bag
 from ddes.tf2_ros import Buffer, TransformListener
 from ddes.time import Time
+
+from ..docsnippets import python_blocks, run_snippet
 
 
 @pytest.fixture(scope="module")
@@ -69,3 +71,20 @@ def test_ekf_on_the_bag_follows_the_truth(kit: Any, tmp_path: Path) -> None:
     # the chain odom → base_link (EKF) → imu_link (robot_frames) exists
     imu = buffer.lookup_transform("odom", "imu_link", Time())
     assert imu.transform.translation.x == pytest.approx(last.pose.pose.position.x, abs=0.3)
+
+
+def test_the_docs_figure_and_snippet(kit: Any, tmp_path: Path,
+                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """docs/localization.md: the figure's command gives the errors the page states, and its
+    Python block runs."""
+    png = tmp_path / "ekf.png"
+    errors = plot_localization(kit, png)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (round(errors.ekf_final, 3), round(errors.odom_final, 3)) == (0.161, 0.909)
+    assert errors.ekf_max < 0.2 < errors.odom_max
+    doc = Path(__file__).resolve().parents[2] / "docs" / "localization.md"
+    text = doc.read_text(encoding="utf-8")
+    assert "final 0.161 m, max 0.166 m; wheel odometry final 0.909 m" in text
+    (block,) = python_blocks(text)
+    run_snippet(block, doc, 0, {})
+    assert "final error 0.16 m" in capsys.readouterr().out

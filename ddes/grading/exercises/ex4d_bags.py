@@ -51,7 +51,7 @@ from ddes.errors import DdesError
 from ddes.grading.course import CourseExercise, hidden_random, notes, start_launch
 from ddes.grading.exercise import Criterion, Facts, Scenario
 from ddes.grading.exercises.common import add_driver
-from ddes.grading.kitbag import KIT_SEED, TOPICS, make_bag
+from ddes.grading.kitbag import KIT_SEED, TOPICS, ekf_track, make_bag
 from ddes.graph.yamlsafe import load_yaml
 
 __all__ = ["EX4D", "reference_final", "scenarios"]
@@ -76,9 +76,6 @@ COVERAGE = 0.9
 STATE = ("x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vz", "vroll", "vpitch", "vyaw",
          "ax", "ay", "az")
 EKF = ("robot_localization", "ekf_localization_node")
-#: The grader's own copy of SMB's EKF configuration (the kit's localization.yaml).
-REFERENCE_CONFIG = Path(__file__).resolve().parents[2] / "packages" / "ddes_sim" / "config" \
-    / "localization.yaml"
 INFRASTRUCTURE = ("/rosout", "/clock")
 
 _BAGS: dict[int, tuple[bytes, float, float]] = {}  # drive seed -> (bytes, start s, end s)
@@ -115,57 +112,18 @@ def _start(world: Any, pkg: str, type_: str, **kw: Any) -> Any:
 
 
 def reference_final(drive_seed: int) -> tuple[float, float]:
-    """The last x/y of the grader's own EKF (the kit's localization.yaml) on the bag of
-    ``drive_seed``: the bundled filter node driven directly with the bag's messages, its 50 Hz
-    updates at the bag times a ``rosbag play --clock`` run gives them, the robot's fixed frames
-    in its buffer (robot_frames)."""
+    """The last x/y of the grader's own EKF (the kit's localization.yaml, the robot's frames) on
+    the bag of ``drive_seed`` (:func:`ddes.grading.kitbag.ekf_track`)."""
     if drive_seed in _REFERENCE:
         return _REFERENCE[drive_seed]
-    from ddes.graph.world import World
-    from ddes.rosbag import Bag
-    from ddes.sim.frames import FRAMES
-    from ddes.sim.localization import EkfLocalizationNode
-
     data, _start_s, _end_s = _bag(drive_seed)
-    world = World(0, wall_budget=None)
-    world.log_output = None
-    world.use_sim_time = True
-    config = load_yaml(REFERENCE_CONFIG.read_text(encoding="utf-8"))
-    for key, value in config.items():
-        world.params.set_param(f"/ekf_localization/{key}", value)
-    ekf = EkfLocalizationNode(world.create_node("/ekf_localization", disable_rosout=True))
-    ts = world.messages.get_message_class("geometry_msgs/TransformStamped")
-    for child, (fx, fy, fz) in FRAMES.items():
-        t = ts()
-        t.header.frame_id, t.child_frame_id = "base_link", child
-        t.transform.translation.x, t.transform.translation.y = fx, fy
-        t.transform.translation.z = fz
-        t.transform.rotation.w = 1.0
-        ekf.buffer.set_transform_static(t, "/robot_state_publisher")
-    route = {"/" + s.topic.lstrip("/"): s for s in ekf.sensors}
-    period = round(1e9 / ekf.frequency)
-    tick = None
     with tempfile.TemporaryDirectory(prefix="ddes-ex4d-ref-") as tmp:
         path = Path(tmp) / "smb_navigation.bag"
         path.write_bytes(data)
-        with Bag(str(path)) as bag:
-            for topic, msg, when in bag.read_messages(topics=sorted(route)):
-                now = when.to_nsec()
-                if tick is None:
-                    tick = now + period
-                while tick <= now:
-                    ekf.integrate(tick)
-                    tick += period
-                sensor = route[topic]
-                if sensor.key.startswith("imu"):
-                    ekf._on_imu(msg, sensor)
-                else:
-                    ekf._on_odom(msg, sensor)
-    if tick is None or not ekf._queue and not ekf.filter.initialized:
+        track = ekf_track(path)
+    if not track:
         raise DdesError(f"the grader's reference EKF fused nothing on bag {drive_seed}")
-    ekf.integrate(tick)
-    x = ekf.filter.x
-    _REFERENCE[drive_seed] = (float(x[0]), float(x[1]))
+    _REFERENCE[drive_seed] = (track[-1][1], track[-1][2])
     return _REFERENCE[drive_seed]
 
 
@@ -176,6 +134,7 @@ class _Ex4d(CourseExercise):
         path = submission / BAG
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(data)
+        world.log_output = False  # rosbag play's and the nodes' own lines: not the grader's output
         scripts = start_launch(world, scenario, submission, LAUNCH_BAG)
         n = notes(world)
         n.extra["bag_span"] = (start_s, end_s)
@@ -312,8 +271,23 @@ class SimRun:
     bag_values: dict[str, list[Any]] = field(default_factory=dict)
 
 
+def _fingerprint(submission: Path) -> str:
+    """A hash of the submission's files (the bag the grader writes left out): the simulator run
+    depends on nothing else."""
+    import hashlib
+
+    h = hashlib.sha256()
+    root = submission.resolve()
+    for path in sorted(p for p in root.rglob("*") if p.is_file() and not p.is_symlink()):
+        rel = path.relative_to(root).as_posix()
+        if rel == BAG:
+            continue
+        h.update(rel.encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
 def _sim_run(submission: Path, seed: int) -> SimRun:
-    key = (str(submission.resolve()), seed)
+    key = (_fingerprint(submission), seed)
     if key in _SIM:
         return _SIM[key]
     out = SimRun()
@@ -332,7 +306,7 @@ def _sim_run(submission: Path, seed: int) -> SimRun:
         out.why.append(f"{LAUNCH_SIM} does not load: {exc}")
         return out
     world = World(seed, wall_budget=None)
-    world.log_output = None
+    world.log_output = False
     for k, v in plan.params.items():
         world.params.set_param(k, v)
     for spec in plan.nodes:  # the grader's scenario: no laser, the IMU at the kit bag's 20 Hz
