@@ -50,6 +50,8 @@ def test_run_py_tiny_prints_every_figure() -> None:
         assert r["fair"] > 0 and r["fair_name"], r
         assert r["fair_ratio_min"] <= r["fair_ratio"] <= r["fair_ratio_max"], r
         assert r["ratio_min"] <= r["ratio"] <= r["ratio_max"], r
+    scaling = [r for r in rows if r["name"].startswith("scaling_run_n")]
+    assert len(scaling) >= 3 and all("exponent" in r for r in scaling[1:]), scaling
     # the table after the JSON lines names every figure
     table = proc.stdout.split("\n\n", 1)[1]
     for name in FIGURES:
