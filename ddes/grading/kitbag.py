@@ -53,22 +53,51 @@ _EVERY = {"/smb_velocity_controller/odom": 5, "/joint_states": 5}
 
 def drive_script(seed: int) -> list[tuple[float, float, float]]:
     """The drive as ``(seconds, v, w)`` segments: 1 s at rest, then straight runs and turns
-    drawn from ``random.Random(f"kitbag/{seed}")`` until :data:`DURATION`."""
+    drawn from ``random.Random(f"kitbag/{seed}")`` until :data:`DURATION`.  A segment whose
+    nominal path (no slip) would come within 3 m of the single-pillar world's pillar is drawn
+    again (a turn the other way, up to 20 times; then the robot stops), so no seed crashes."""
+    from ddes.sim._trig import sincos
+
     rng = random.Random(f"kitbag/{seed}")
     segments: list[tuple[float, float, float]] = [(1.0, 0.0, 0.0)]
     total = 1.0
     straight = True
+    pose = (0.0, 0.0, 0.0)
+
+    def follow(p: tuple[float, float, float], seg: tuple[float, float, float]
+               ) -> tuple[float, float, float] | None:
+        x, y, yaw = p
+        seconds, v, w = seg
+        for _ in range(round(seconds * 10)):
+            s, c = sincos(yaw)
+            x, y, yaw = x + v * c * 0.1, y + v * s * 0.1, yaw + w * 0.1
+            if (x - _PILLAR[0]) ** 2 + (y - _PILLAR[1]) ** 2 < _CLEARANCE ** 2:
+                return None
+        return x, y, yaw
+
     while total < DURATION:
-        if straight:
-            seg = (round(rng.uniform(4.0, 7.0), 1), round(rng.uniform(0.4, 0.7), 2), 0.0)
+        for _attempt in range(20):
+            if straight:
+                seg = (round(rng.uniform(4.0, 7.0), 1), round(rng.uniform(0.4, 0.7), 2), 0.0)
+            else:
+                w = round(rng.uniform(0.3, 0.6), 2) * rng.choice((-1.0, 1.0))
+                seg = (round(rng.uniform(3.0, 5.0), 1), round(rng.uniform(0.3, 0.5), 2), w)
+            seg = (min(seg[0], round(DURATION - total, 1)), seg[1], seg[2])
+            after = follow(pose, seg)
+            if after is not None:
+                pose = after
+                break
         else:
-            w = round(rng.uniform(0.3, 0.6), 2) * rng.choice((-1.0, 1.0))
-            seg = (round(rng.uniform(3.0, 5.0), 1), round(rng.uniform(0.3, 0.5), 2), w)
-        seg = (min(seg[0], round(DURATION - total, 1)), seg[1], seg[2])
+            seg = (round(DURATION - total, 1), 0.0, 0.0)
         segments.append(seg)
         total = round(total + seg[0], 1)
         straight = not straight
     return segments
+
+
+#: The single-pillar world's pillar (x, y) and the clearance the drive keeps from its centre.
+_PILLAR = (20.0, 5.0)
+_CLEARANCE = 3.0
 
 
 @dataclass
