@@ -216,13 +216,18 @@ class PlanarEkf:
             x[i] += sum(ki[b] * y[b] for b in rng_m)
         # Joseph form (I - K H) P (I - K H)ᵀ + K R Kᵀ, expanded with H a selection:
         # P - K (H P) - (P Hᵀ) Kᵀ + K (H P Hᵀ + R) Kᵀ
+        #   = P - Σ_b K[:, b] ⊗ PHᵀ[:, b] - Σ_b U[:, b] ⊗ K[:, b],  U = P Hᵀ - K S
         ks = [[sum(ki[c] * s[c][b] for c in rng_m) for b in rng_m] for ki in k_gain]
+        cols_k = [[k_gain[j][b] for j in range(N)] for b in rng_m]
+        cols_ph = [[pht[j][b] for j in range(N)] for b in rng_m]
         new = []
         for i in range(N):
-            ki, phi, ksi, pi = k_gain[i], pht[i], ks[i], p[i]
-            new.append([pi[j] - sum(ki[b] * pht[j][b] + phi[b] * k_gain[j][b]
-                                    - ksi[b] * k_gain[j][b] for b in rng_m)
-                        for j in range(N)])
+            row = p[i]
+            ki, phi, ksi = k_gain[i], pht[i], ks[i]
+            for b in rng_m:
+                a, u = ki[b], phi[b] - ksi[b]
+                row = [r - a * h - u * k for r, h, k in zip(row, cols_ph[b], cols_k[b])]
+            new.append(row if m else list(row))
         self.P = new
         x[_YAW] = wrap(x[_YAW])
         return True
