@@ -95,9 +95,12 @@ def _exercise(task: Task) -> Exercise:
     return REGISTRY.get(task.exercise)
 
 
-def grade_scenario(task: Task) -> ScenarioOutcome:
-    """Run and score one scenario of one submission (the unit of work of a batch)."""
-    exercise = _exercise(task)
+def grade_scenario(task: Task, exercise: Exercise | None = None) -> ScenarioOutcome:
+    """Run and score one scenario of one submission (the unit of work of a batch); a Dask
+    worker finds the exercise by its id (built in, or loaded from ``task.origin``), a serial
+    batch may hand it over (an exercise defined in the caller's code)."""
+    if exercise is None:
+        exercise = _exercise(task)
     scenario = (None if task.index is None
                 else select_scenarios(exercise, task.seed, task.public, task.key)[task.index])
     out = ScenarioOutcome(scenario="" if scenario is None else scenario.name)
@@ -226,13 +229,14 @@ def _failure(exc: BaseException, retries: int | None) -> str:
 def run_tasks(tasks: Sequence[Task], keys: Sequence[str], *, workers: int = 0,
               scheduler: str | None = None, retries: int | None = None,
               on_result: Callable[[int, ScenarioOutcome | str], None] | None = None,
-              progress: TextIO | None = None,
+              progress: TextIO | None = None, exercise: Exercise | None = None,
               say: Callable[[str], None] = print) -> list[ScenarioOutcome | str]:
     """Each task's outcome, in input order, or the text of its failure (an exception in the
     task, or ``KilledWorker`` past the retries).  ``workers=0`` and no ``scheduler``: in this
     process, one after the other.  ``retries``: how many times a task whose worker died is run
     again (Dask's ``allowed-failures``; default 3) on the ``LocalCluster`` this starts.
-    ``on_result(index, outcome)`` is called as each task finishes, in the order they finish."""
+    ``on_result(index, outcome)`` is called as each task finishes, in the order they finish;
+    ``exercise``: the tasks' exercise, used as is by a serial batch."""
     if workers < 0:
         raise GradingError(f"--workers {workers}: give 0 (serial) or a number of processes")
     if retries is not None and retries < 0:
@@ -253,7 +257,7 @@ def run_tasks(tasks: Sequence[Task], keys: Sequence[str], *, workers: int = 0,
         try:
             for i, task in enumerate(tasks):
                 try:
-                    outcome: ScenarioOutcome | str = grade_scenario(task)
+                    outcome: ScenarioOutcome | str = grade_scenario(task, exercise)
                 except Exception as exc:  # noqa: BLE001 - one broken task never ends the batch
                     outcome = _failure(exc, retries)
                 record(i, outcome)
@@ -372,8 +376,17 @@ def grade_all(exercise: Exercise, jobs: Sequence[Job], *, limits: Limits | None 
     for j, plan in enumerate(plans):
         if isinstance(plan, str):
             finish(j)
+    if (workers or scheduler) and not exercise.origin:
+        try:
+            known = REGISTRY.get(exercise.id) is exercise
+        except GradingError:
+            known = False
+        if not known:
+            raise GradingError(f"exercise {exercise.id} is neither built in nor loaded from a "
+                               "file (--exercises FILE), so Dask workers cannot load it: grade "
+                               "it with workers=0")
     run_tasks(tasks, keys, workers=workers, scheduler=scheduler, retries=retries,
-              on_result=on_result, progress=progress, say=say)
+              on_result=on_result, progress=progress, exercise=exercise, say=say)
     return [d for d in done if d is not None]
 
 

@@ -204,11 +204,11 @@ class Counted:
         self.stop_at: int | None = None
         self.real = batch.grade_scenario
 
-    def __call__(self, task: batch.Task) -> batch.ScenarioOutcome:
+    def __call__(self, task: batch.Task, exercise: Any = None) -> batch.ScenarioOutcome:
         if self.stop_at is not None and len(self.ran) == self.stop_at:
             raise KeyboardInterrupt
         self.ran.append(Path(task.submission).name)
-        return self.real(task)
+        return self.real(task, exercise)
 
 
 def test_an_interrupted_batch_resumes_without_regrading_finished_submissions(
