@@ -291,3 +291,16 @@ def test_sweep_and_sensitivity_run_on_the_same_engine(
     assert main(["grade", "--exercises", EXERCISES, "sweep", "ex0_talker", str(SOLUTION),
                  "--seeds", "0:2", "--scheduler", scheduler, "--retries", "1"]) == 2
     assert "--retries sets the retry limit" in capsys.readouterr().err
+
+
+def test_an_exercise_defined_in_code_grades_serially_but_not_on_dask(tmp_path: Path) -> None:
+    from ddes.errors import GradingError
+    from ddes.grading.batch import Job, grade_all
+
+    REGISTRY.load_file(EXERCISES)
+    in_code = dataclasses.replace(REGISTRY.get("ex0_talker"), origin="")  # in no registry
+    sub = submissions(tmp_path) / "reference"
+    (report,) = grade_all(in_code, [Job("reference", sub)])
+    assert not isinstance(report, str) and report.score == 10
+    with pytest.raises(GradingError, match="neither built in nor loaded from a file"):
+        grade_all(in_code, [Job("reference", sub)], workers=2)
