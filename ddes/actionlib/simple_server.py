@@ -39,7 +39,6 @@ ddes keeps exactly that timing.
 
 from __future__ import annotations
 
-import traceback
 from collections.abc import Callable
 from types import GeneratorType
 from typing import TYPE_CHECKING, Any
@@ -54,6 +53,7 @@ from ddes.actionlib._common import (
 from ddes.actionlib.server import AUTO_START_WARNING, ActionServer, ServerGoalHandle
 from ddes.actionlib.states import GoalStatus
 from ddes.errors import DdesTypeError, ROSActionException
+from ddes.graph.failures import user_traceback
 from ddes.graph.rosout import WARN
 from ddes.msg.message import Message
 from ddes.time.rospy_calls import REQUIRED, is_node_like
@@ -307,7 +307,9 @@ class SimpleActionServer:
                 misuse(node, self.ns, NO_TERMINAL_STATE_WARNING, level=WARN)
                 self._abort(NO_TERMINAL_STATE_TEXT)
         except Exception as ex:  # noqa: BLE001 - rospy aborts the goal and carries on
-            misuse(node, self.ns, f"Exception in your execute callback: {ex}\n{traceback.format_exc()}")
+            # rospy appends traceback.format_exc(); ddes the user's frames by base name, so
+            # the log (and a digest) is the same wherever the code is installed
+            misuse(node, self.ns, f"Exception in your execute callback: {ex}\n{user_traceback(ex)}\n")
             self._abort(f"Exception in execute callback: {ex}")
         node.world.record("action.simple.execute", node.name, ns=self.ns, id=gid, phase="end")
 

@@ -282,6 +282,9 @@ def main(argv: list[str] | None = None) -> int:
     bridge = _Bridge(world, out)
     random.seed(seed)
     cwd = os.getcwd()
+    # the submission's copy is shown as /submission in logs, as in the grader's world
+    # (ddes.grading.grader.submission_paths): a digest does not depend on the temporary folder
+    world.display_paths = {cwd: "/submission", os.path.realpath(cwd): "/submission"}
     reads = sorted({sys.prefix, sys.base_prefix, sys.exec_prefix, ddes.__path__[0],
                     os.path.dirname(os.path.realpath(sys.executable)), "/usr/lib", "/usr/lib64",
                     "/lib", "/lib64", "/usr/share/zoneinfo", "/dev/urandom", "/dev/null"})

@@ -9,6 +9,7 @@ what it costs; the criteria are still computed on whatever ran.
 
 from __future__ import annotations
 
+import os
 import re
 import shlex
 import shutil
@@ -101,12 +102,25 @@ def _digest(world: World) -> str:
         return ""
 
 
+def submission_paths(prepared: Path) -> dict[str, str]:
+    """The prepared submission's temporary folder (as given and resolved) shown as
+    ``/submission`` in what nodes log (World.display_paths), in the grader's world and the
+    child's: a grade's digest does not depend on where the submission was unpacked."""
+    return {str(prepared): SHOWN_ROOT, os.path.realpath(prepared): SHOWN_ROOT}
+
+
+#: The name a submission's folder has in logs and traces of a grade.
+SHOWN_ROOT = "/submission"
+
+
 def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
                  limits: Limits | None) -> tuple[World, Facts]:
     """Build the trusted world of ``scenario``, run the prepared submission (None: it could not
     be read) in lockstep with it, and return the world and the facts of the run."""
     world = World(scenario.seed, wall_budget=None)
     world.log_output = None
+    if prepared is not None:  # logs name the submission's files as /submission/...
+        world.display_paths = submission_paths(prepared)
     exercise.build(world, scenario)
     until = to_ns(exercise.duration, "duration")
     if prepared is not None:

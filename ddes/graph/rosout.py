@@ -46,7 +46,7 @@ if TYPE_CHECKING:
 
 __all__ = ["DEBUG", "ERROR", "FATAL", "INFO", "LEVEL_NAMES", "LOGGER", "PYTHON_LEVELS", "WARN",
            "NodeLogger", "RosStreamHandler", "emit_line", "format_line", "format_line_roscpp",
-           "logger_name"]
+           "logger_name", "show_paths"]
 
 DEBUG, INFO, WARN, ERROR, FATAL = 1, 2, 4, 8, 16
 LEVEL_NAMES = {DEBUG: "DEBUG", INFO: "INFO", WARN: "WARN", ERROR: "ERROR", FATAL: "FATAL"}
@@ -123,6 +123,15 @@ def emit_line(node: Node, level: int, text: str, line: str, *, where: tuple[str,
     logger.handle(record)
 
 
+def show_paths(text: str, paths: dict[str, str]) -> str:
+    """``text`` with each folder of ``paths`` (``{real: shown}``, World.display_paths) shown
+    under its name; longer folders first, so a folder inside another keeps its own name."""
+    for real in sorted(paths, key=len, reverse=True):
+        if real in text:
+            text = text.replace(real, paths[real])
+    return text
+
+
 def level_from(value: str | int) -> int:
     """A level from its name (``"info"``) or number (2)."""
     if isinstance(value, str) and value.lower() in _BY_NAME:
@@ -192,6 +201,8 @@ class NodeLogger:
             self._last[site] = now
         text = str(msg) % args if args else str(msg)
         world = node.world
+        if world.display_paths:
+            text = show_paths(text, world.display_paths)
         world.record("log", node.name, level=LEVEL_NAMES[level], msg=text,
                      file=frame.f_code.co_filename.rsplit("/", 1)[-1], line=frame.f_lineno)
         if self._pub is not None and self._log_cls is not None and not node.is_shutdown():

@@ -129,6 +129,11 @@ class World(Kernel):
         self.connect_delay_ns: int = 1_000_000
         #: Where log lines are printed: ``fn(line, level)``, or None (trace only).
         self.log_output: Callable[[str, int], object] | bool | None = None
+        #: Folders shown under another name in what nodes log (``{real: shown}``): the grader
+        #: shows a submission's temporary folder as ``/submission``, so a log line naming a
+        #: file in it (``rosbag play``'s ``Opening ...``) and a grade's digest do not depend on
+        #: where the submission was unpacked.  Empty (every path as it is) by default.
+        self.display_paths: dict[str, str] = {}
         self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
         #: The world's master: registry of nodes, topics, services, and the parameters.
         self.master = Master(self)
