@@ -27,6 +27,7 @@ from ddes.msg import (  # noqa: E402
     get_message_class,
     serialize_message,
 )
+from ddes.msg.numpy_msg import numpy_msg  # noqa: E402
 
 _STORE = get_typestore(Stores.ROS1_NOETIC)
 
@@ -67,8 +68,11 @@ def _loop(fn: Callable[[], None], n: int) -> Callable[[], int]:
     return run
 
 
-def _pair(name: str, msg: Message, n: int) -> dict[str, Any]:
+def _pair(name: str, msg: Message, n: int, numpy: bool = False) -> dict[str, Any]:
     cls = type(msg)
+    if numpy:  # rospy's numpy_msg form: numeric arrays as numpy arrays, both sides
+        cls = numpy_msg(cls)
+        msg = deserialize_message(cls, serialize_message(msg))
     rb_type = msg._type.replace("/", "/msg/", 1)
     data = serialize_message(msg)
     rb_msg = _STORE.deserialize_ros1(data, rb_type)
@@ -91,6 +95,7 @@ def benchmarks() -> list[dict[str, Any]]:
         _pair("msg_roundtrip_string", _string(), size(20_000)),
         _pair("msg_roundtrip_odometry", _odometry(), size(10_000)),
         _pair("msg_roundtrip_laserscan720", _laser_scan(), size(3_000)),
+        _pair("msg_roundtrip_laserscan720_numpy", _laser_scan(), size(3_000), numpy=True),
     ]
 
 

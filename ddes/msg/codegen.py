@@ -158,7 +158,8 @@ def _make_duration(secs: int, nsecs: int) -> Duration:
 class _Source:
     """Lines of generated code plus the objects they reference."""
 
-    def __init__(self) -> None:
+    def __init__(self, numpy: Any = None) -> None:
+        self.numpy = numpy  # the numpy module for numpy_msg classes, else None
         self.lines: list[str] = []
         self.ns: dict[str, Any] = {
             "_struct": struct, "_I": _STRUCT_I, "_Time": Time, "_Duration": Duration,
@@ -166,7 +167,7 @@ class _Source:
             "_to_bytes": _to_bytes, "_pack_array": _pack_array, "_unpack_from":
             struct.unpack_from, "_trunc": _trunc, "_flen": _fixed_len_error,
             "_TypeErr": DdesTypeError, "_AttrErr": DdesAttributeError,
-            "_many": _too_many, "_zero": _check_zero,
+            "_many": _too_many, "_zero": _check_zero, "_np": numpy,
         }
         self._counter = 0
         self._structs: dict[str, str] = {}
@@ -275,11 +276,16 @@ def _ser_fields(src: _Source, pk: _Packer, infos: tuple[FieldInfo, ...], ctx: st
             continue
         if n is None:
             pk.add("I", f"len({tmp})")
-        elif info.kind in ("int", "float", "bool"):
+        elif info.kind == "bool" or (info.kind in ("int", "float") and src.numpy is None):
             pk.add(f"{n}{SIMPLE_STRUCT[info.base_type]}", f"*{tmp}")
             continue
         else:
             src.emit(indent, f"if len({tmp}) != {n}: raise _flen({where!r}, {n}, len({tmp}))")
+        if info.kind in ("int", "float") and src.numpy is not None:
+            pk.flush(indent)
+            dt = "<" + SIMPLE_STRUCT[info.base_type]
+            src.emit(indent, f"_w(_np.asarray({tmp}, {dt!r}).tobytes())")
+            continue
         if info.kind in ("int", "float", "bool"):
             pk.flush(indent)
             src.emit(indent, f"_w(_pack_array({SIMPLE_STRUCT[info.base_type]!r}, {tmp}))")
@@ -388,12 +394,16 @@ def _de_fields(src: _Source, up: _Unpacker, infos: tuple[FieldInfo, ...], ctx: s
                 src.emit(indent, f"_e = _o + {length} * {size}")
                 _check_room(src, indent, "_e")
                 value = f"_unpack_from('<%d{code}' % {length}, _d, _o)"
+                if src.numpy is not None and info.kind != "bool":
+                    value = f"_np.frombuffer(_d, '<{code}', {length}, _o)"
             else:
                 up.flush(indent)
                 sname = src.struct(f"{n}{code}")
                 src.emit(indent, f"_e = _o + {n * size}")
                 _check_room(src, indent, "_e")
                 value = f"{sname}.unpack_from(_d, _o)"
+                if src.numpy is not None and info.kind != "bool":
+                    value = f"_np.frombuffer(_d, '<{code}', {n}, _o)"
             if info.kind == "bool":
                 value = f"[bool(_b) for _b in {value}]"
             src.emit(indent, f"{ref} = {value}")
@@ -509,8 +519,13 @@ def _init_source(src: _Source, cls_name: str, infos: tuple[FieldInfo, ...]) -> N
 
 
 def generate_message_class(spec: MsgSpec, md5sum: str, full_text: str,
-                           resolve: Callable[[str], type[Message]]) -> type[Message]:
+                           resolve: Callable[[str], type[Message]],
+                           numpy: Any = None) -> type[Message]:
     """Build the Message subclass for ``spec`` (nested types via ``resolve``).
+
+    ``numpy`` (the numpy module) builds the :func:`ddes.msg.numpy_msg` form:
+    numeric arrays (not bool, not uint8/char) read as read-only
+    ``numpy.frombuffer`` views and written with ``numpy.asarray(...).tobytes()``.
 
     ``resolve(type_name)`` must return the already built class of each
     nested message type.
@@ -531,7 +546,7 @@ def generate_message_class(spec: MsgSpec, md5sum: str, full_text: str,
             f"ddes.msg.codegen.MAX_DEFAULT_ELEMENTS ({MAX_DEFAULT_ELEMENTS}); use a "
             "variable-length array T[] (or raise the limit if it is genuine)"
         )
-    src = _Source()
+    src = _Source(numpy)
     cls_name = spec.short_name
     _init_source(src, cls_name, infos)
 
