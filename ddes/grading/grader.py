@@ -15,6 +15,7 @@ import shlex
 import shutil
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import ddes
@@ -26,6 +27,7 @@ from ddes.grading.sandbox import Limits, Sandbox, SandboxOutcome
 from ddes.grading.scenarios import HiddenKey, select_scenarios
 from ddes.grading.submission import prepare
 from ddes.graph.world import World
+from ddes.time import Time
 from ddes.time.units import to_ns
 
 __all__ = ["grade", "replay_command", "run_scenario", "score_scenario"]
@@ -123,8 +125,9 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         world.display_paths = submission_paths(prepared)
     exercise.build(world, scenario)
     until = to_ns(exercise.duration, "duration")
-    if prepared is not None:
-        scripts = exercise.student_scripts(world, scenario, prepared)
+    scripts = [] if prepared is None else exercise.student_scripts(world, scenario, prepared)
+    if scripts:
+        assert prepared is not None
         # /use_sim_time crosses into the child, so its nodes follow the /clock the grader forwards
         params = {"/use_sim_time": True} if world.use_sim_time else {}
         sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits, params=params)
@@ -133,14 +136,32 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         outcome = lock.run(until, done=None if finished is None else lambda: finished(world))
         refused = lock.problems
         nodes = list(lock.proxies)
-    else:
-        world.run(until=until / 1e9)
-        outcome = SandboxOutcome(state="not started", reason="the submission could not be read")
+    else:  # no student node to run: no child, no lockstep (nothing of the submission executes)
+        _run_alone(world, until, exercise.finished if prepared is not None else None)
+        outcome = SandboxOutcome(state="not started", reason=(
+            "the submission could not be read" if prepared is None else
+            "no student node to run: the student's process was not started"))
         refused, nodes = [], []
     facts = Facts(exercise=exercise, scenario=scenario, world=world, outcome=outcome,
                   refused=refused, submission=prepared if prepared is not None else Path("/nonexistent"),
                   student_nodes=nodes)
     return world, facts
+
+
+def _run_alone(world: World, until_ns: int, finished: Callable[[World], bool] | None) -> None:
+    """Run ``world`` as :meth:`Lockstep.run` would with a child that has no node: the same
+    instants (the first at 0), ``finished(world)`` checked after each, the same end."""
+    if finished is None:
+        world.run(until=Time._from_ns(until_ns))
+        return
+    t = 0
+    while t < until_ns:
+        world.run_through(t)
+        if finished(world):
+            return
+        t = int(min(world.env.peek(), until_ns))
+    if world.now < until_ns:
+        world.run(until=Time._from_ns(until_ns))
 
 
 def _note_problems(report: GradeReport, facts: Facts) -> None:

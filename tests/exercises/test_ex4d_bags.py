@@ -54,3 +54,23 @@ def test_hidden_bags_come_from_the_seed() -> None:
     assert a == b and a[0].params["drive_seed"] == 2021
     assert a[1].params != scenarios(6, False)[1].params and a[1].params != a[2].params
     assert reference_final(2021) == reference_final(2021)
+
+
+def test_the_simulator_run_starts_no_code_of_the_submission(tmp_path: Path) -> None:
+    """ekf_sim.launch is run in the grader's process: a node of any package the submission holds
+    is left out (its nodes.py or scripts never execute there), the bundled ones still run."""
+    from ddes.grading.exercises.ex4d_bags import _sim_run
+
+    sub = tmp_path / "sub"
+    shutil.copytree(SOLUTION, sub, ignore=shutil.ignore_patterns("mutants"))
+    marker = tmp_path / "ran"
+    pkg = sub / "evil_pkg"
+    pkg.mkdir()
+    (pkg / "package.xml").write_text("<package format=\"2\"><name>evil_pkg</name></package>\n")
+    (pkg / "nodes.py").write_text(f"open({str(marker)!r}, 'w').write('ran')\nNODES = {{}}\n")
+    launch = sub / "smb_highlevel_controller" / "launch" / "ekf_sim.launch"
+    launch.write_text(launch.read_text().replace(
+        "</launch>", '  <node pkg="evil_pkg" type="x" name="x"/>\n</launch>'))
+    run = _sim_run(sub, 0)
+    assert not marker.exists()
+    assert run.rate_ok and run.one_authority, run.why

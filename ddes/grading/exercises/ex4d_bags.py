@@ -19,8 +19,9 @@ reference's 110 points are 100 %):
   ``/clock``), and ``ekf.fuses`` names the states of each ``_config`` vector loaded.
 * 4d.2 (10) ``bag.topics`` equals the bag's topics and types; ``bag.how`` is a
   ``rosbag info …bag`` command line.
-* 4d.3 (20) ``launch/ekf_sim.launch`` run by the grader (its trusted nodes, driven by the
-  grader for 31 s): ``sim_run.bag`` holds ``/odometry/filtered`` at the EKF's ``frequency``
+* 4d.3 (20) ``launch/ekf_sim.launch`` run by the grader (its trusted nodes, started from the
+  bundled packages; a node of any package the submission holds is left out, so nothing of the
+  submission executes in the grader's process; driven by the grader for 31 s): ``sim_run.bag`` holds ``/odometry/filtered`` at the EKF's ``frequency``
   (±10 %) and exactly one node publishes odom → base_link (10); the multiplot config has a
   curve of ``/odometry/filtered`` whose x and y fields resolve to ``pose.pose.position.x``/``y``
   values on that bag (10).  Run once per grade (the public scenario's seed) and shared by the
@@ -48,7 +49,7 @@ from typing import Any
 import yaml
 
 from ddes.errors import DdesError
-from ddes.grading.course import CourseExercise, hidden_random, notes, start_launch
+from ddes.grading.course import CourseExercise, find_package, hidden_random, notes, start_launch
 from ddes.grading.exercise import Criterion, Facts, Scenario
 from ddes.grading.exercises.common import add_driver
 from ddes.grading.kitbag import KIT_SEED, TOPICS, ekf_track, make_bag
@@ -325,9 +326,12 @@ def _sim_run(submission: Path, seed: int) -> SimRun:
     frequency = 30.0
     ekf_name = ""
     with tempfile.TemporaryDirectory(prefix="ddes-ex4d-sim-") as tmp:
+        trusted = RosPack([])  # bundled packages only: nothing of the submission is started
         for spec in plan.nodes:
-            if spec.pkg in (PKG, "rviz"):
-                continue  # the student's own nodes (an E3 controller) are not run: the grader drives
+            if spec.pkg in (PKG, "rviz") or find_package(submission, spec.pkg) is not None:
+                # the student's own nodes (an E3 controller, any package of the submission) are
+                # not run, here in the grader's process: the grader drives
+                continue
             if (spec.pkg, spec.type) == EKF:
                 ekf_name = spec.full_name
                 value: Any = plan.params.get(f"{ekf_name}/frequency", 30.0)
@@ -336,7 +340,7 @@ def _sim_run(submission: Path, seed: int) -> SimRun:
                 except (TypeError, ValueError):
                     out.why.append(f"{ekf_name}/frequency {value!r} is not a number")
             try:
-                _start(world, spec.pkg, spec.type, rospack=RosPack([submission]), name=spec.name,
+                _start(world, spec.pkg, spec.type, rospack=trusted, name=spec.name,
                        namespace=spec.namespace, cwd=tmp,
                        argv=[*spec.args, *(f"{a}:={b}" for a, b in spec.remappings)])
             except Exception as exc:  # noqa: BLE001 - a node the launch names that cannot start
