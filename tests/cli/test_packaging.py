@@ -109,7 +109,7 @@ def test_the_import_scanner_skips_type_checking_blocks() -> None:
 
 
 #: (extra, its distributions, the only files that may import them, inside a function).
-OPTIONAL = [("batch", {"distributed"}, {"ddes/grading/batch.py"}),
+OPTIONAL = [("batch", {"distributed", "dask"}, {"ddes/grading/batch.py"}),
             ("numpy", {"numpy"}, {"ddes/msg/numpy_msg.py"})]
 
 
