@@ -22,8 +22,8 @@ from ddes.grading.sweep import sweep
 REPO = Path(__file__).resolve().parents[2]
 SOLUTIONS = REPO / "solutions"
 DOCS = REPO / "docs" / "grading.md"
-EXERCISES = ["ex1_console", "ex2_package", "ex3_pillar", "ex4a_services", "ex4c_time",
-             "ex4d_bags"]
+EXERCISES = ["ex1_console", "ex2_package", "ex3_pillar", "ex4a_services", "ex4b_actions",
+             "ex4c_time", "ex4d_bags", "ex5_safety"]
 SEEDS = range(20)
 
 
