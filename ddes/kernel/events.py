@@ -25,7 +25,7 @@ from heapq import heappop, heappush
 from typing import Generic, TypeVar
 
 import simpy
-from simpy.core import EmptySchedule, SimTime, StopSimulation
+from simpy.core import EmptySchedule, StopSimulation
 from simpy.events import NORMAL, PENDING, URGENT, Event, Timeout
 
 from ddes.errors import BadYieldError
@@ -73,81 +73,6 @@ class NsEnvironment(simpy.Environment):
     def now(self) -> int:
         """Current kernel time, integer nanoseconds."""
         return self.now_ns
-
-    def run(self, until: SimTime | Event | None = None) -> object:
-        """SimPy 4.1's ``Environment.run``, stepping the queue inline (:meth:`_steps`)."""
-        if until is not None:
-            if not isinstance(until, Event):
-                at = until if isinstance(until, int) else float(until)
-                if at <= self.now_ns:
-                    raise ValueError(
-                        f"until ({at}) must be greater than the current simulation time")
-                until = Event(self)
-                until._ok = True
-                until._value = None
-                self.schedule(until, URGENT, at - self.now_ns)
-            elif until.callbacks is None:
-                return until.value
-            until.callbacks.append(StopSimulation.callback)
-        try:
-            self._steps()
-        except StopSimulation as exc:
-            return exc.args[0]
-        except EmptySchedule:
-            if until is not None:
-                raise RuntimeError(
-                    f'No scheduled events left but "until" event was not triggered: {until}'
-                ) from None
-        return None
-
-    def _steps(self) -> None:
-        """:meth:`step` in a loop, inlined (no method call per event), until an exception
-        (``EmptySchedule``, ``StopSimulation``, a crash) ends it.  Same order, same checks."""
-        queue = self._queue
-        while True:
-            try:
-                t, _, _, event = heappop(queue)
-            except IndexError:
-                raise EmptySchedule from None
-            now: int = t  # type: ignore[assignment]  # ddes schedules int delays only
-            self.steps += 1
-            if now == self.now_ns:
-                self._same_instant += 1
-                if self._same_instant > self.instant_budget:
-                    raise ZeroTimeLivelock(now, self._same_instant, event)
-            else:
-                self._same_instant = 0
-            self._now = self.now_ns = now
-            callbacks, event.callbacks = event.callbacks, None  # type: ignore[assignment]
-            if not callbacks:
-                label = getattr(event, MUST_YIELD, None)
-                if label is not None:
-                    never_yielded(label, now)
-            try:
-                for callback in callbacks:
-                    callback(event)
-            except StopSimulation:
-                event.callbacks = callbacks[callbacks.index(callback) + 1:]
-                self.schedule(event, URGENT)
-                raise
-            except RuntimeError as error:
-                process = getattr(callback, "__self__", None)
-                if (not isinstance(process, simpy.Process)
-                        or "Invalid yield value" not in str(error)):
-                    raise
-                bad = bad_yield(process, str(error))
-                hook = self.on_failure
-                if hook is not None and hook(process, bad):
-                    continue
-                raise bad from None
-            if not event._ok and not hasattr(event, "_defused"):
-                hook = self.on_failure
-                if hook is not None and hook(event, event._value):
-                    event._defused = True
-                    continue
-                exc = type(event._value)(*event._value.args)
-                exc.__cause__ = event._value
-                raise exc
 
     def step(self) -> None:
         """Process the next event (SimPy 4.1's ``Environment.step``, also setting ``now_ns``)."""

@@ -102,7 +102,7 @@ class KernelClock(Clock):
     is_sim = False
 
     def now_ns(self) -> int:
-        return self.env.now_ns  # type: ignore[attr-defined, no-any-return]  # NsEnvironment's plain attribute
+        return self.env.now
 
     def get_walltime(self) -> WallTime:
         """Kernel time as a WallTime."""

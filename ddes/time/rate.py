@@ -127,18 +127,11 @@ class Rate:
         """Event that fires at the end of the current cycle."""
         clock = self._clock
         curr = clock.now_ns()
-        last = self.last_time_ns
-        if last > curr:
-            last = curr
-        period = self._period
-        remaining = period - (curr - last)
+        remaining = self._remaining(curr)
         if not clock.is_sim:
-            # _advance(curr), inline (the kernel clock's hot path)
-            last += period
-            self.last_time_ns = curr if curr - last > 2 * period else last
+            self._advance(curr)
             ev: simpy.Event = clock.env.timeout(remaining if remaining > 0 else 0)
         else:
-            self.last_time_ns = last
             ev = clock.env.process(self._sim_sleep(curr, remaining))
         setattr(ev, MUST_YIELD, "rate.sleep()")
         return ev
