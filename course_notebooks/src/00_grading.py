@@ -1,4 +1,4 @@
-# ddes-digest: 22411c6f3c3682b8efcecc8db6c4158c021c05cf1eb1660a221bbbd5dbfac717
+# ddes-digest: e70515e84a3f4f127b0be61f4401318cb3f6875b5e7acb2d2e577deffffe9373
 # %% [markdown]
 # # For instructors: grading with ddes
 #

@@ -1,4 +1,4 @@
-# ddes-digest: 53690dc26821401f9aa08d3cffa4825b279d8c64e287cb52f61e7c1d1b894c25
+# ddes-digest: cbe92310bf57f7bb7076555effffe6048fcd3656a1725983c1b61e2c4208ed0e
 # %% [markdown]
 # # Lecture 1: the ROS graph and the console
 #

@@ -1,4 +1,4 @@
-# ddes-digest: 67682b561f12d37fcb15439d1824b7df92aadc89bb9649c7c1c9de8fe51e73c6
+# ddes-digest: bf7600e59aec15a185f8ac81fa7954218ed03f9c8757c9494e8514703d7256c8
 # %% [markdown]
 # # Lecture 2: packages, parameters and launch files
 #

@@ -1,4 +1,4 @@
-# ddes-digest: e2833c9ad04caa3cd6595b662e68471962229ac5f3411382e430655ec1e22860
+# ddes-digest: f76799300673634b2c7e6ed1a649c90fad2caf4b58b079c577b95f29d2b0530e
 # %% [markdown]
 # # Lecture 3: TF and a P controller
 #
