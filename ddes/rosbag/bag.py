@@ -105,6 +105,7 @@ __all__ = [
 ]
 
 _time_key = itemgetter(0)
+_NS = 1_000_000_000
 _TIME_LIMIT = to_ns(2**32)  # a bag stores u32 seconds
 
 
@@ -602,15 +603,39 @@ class Bag:
         write on a topic creates its connection from ``connection_header`` (or
         the message class); later writes on that topic reuse it.
         """
-        self._check_writable()
-        if not topic or not isinstance(topic, str):
-            raise DdesValueError(f"topic is invalid: {topic!r}")
+        if self._closed or self._mode == "r":
+            self._check_writable()
+        if type(topic) is not str or not topic:
+            if not topic or not isinstance(topic, str):
+                raise DdesValueError(f"topic is invalid: {topic!r}")
         if msg is None:
             raise DdesValueError("msg is invalid: None")
         if type(t) is Time and t.secs < 4294967296:
-            ns = to_ns(t, "t")  # the common case: a Time within the u32 range
+            ns = t.secs * _NS + t.nsecs  # the common case: a Time within the u32 range
+            if type(ns) is not int:
+                ns = int(ns)
         else:
             ns = _stamp_ns(self._now() if t is None else t, "t")
+        if raw and type(msg) is tuple and 4 <= len(msg) <= 5:
+            # the common raw case, on a known topic: rosbag's checks, then _append inline
+            data = msg[1]
+            if type(data) is not bytes:
+                if not isinstance(data, (bytes, bytearray, memoryview)):
+                    raise DdesTypeError(f"raw message data must be bytes, got "
+                                        f"{type(data).__name__}")
+                data = bytes(data)
+            cid = self._topic_connections.get(topic)
+            if cid is not None:
+                entry = (ns, cid, data)
+                self._log.append(entry)
+                index = self._indexes[cid]
+                if not index or ns >= index[-1][0]:
+                    index.append(entry)
+                else:
+                    bisect.insort_right(index, entry, key=_time_key)
+                if self._loaded is not None or self._encoded is not None:
+                    self._modified()
+                return
         if isinstance(msg, AnyMsg):
             data = bytes(msg._buff)
             header = dict(msg._connection_header)

@@ -27,8 +27,9 @@ import bisect
 import bz2
 import os
 import struct
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
+from itertools import chain
 from operator import itemgetter
 from typing import IO
 
@@ -82,11 +83,12 @@ _DATA_START = len(MAGIC)
 _time_key = itemgetter(0)
 # A message-data record: header length 38, then op=0x02, conn=<u32>, time=<u32 u32>, data.
 _MSG_PREFIX = struct.pack("<LL", 38, 4) + b"op=\x02" + struct.pack("<L", 9) + b"conn="
-_MSG_REST = struct.Struct("<LL5sLLL")
 _OP_CONN = struct.pack("<L", 4) + b"op=\x02" + struct.pack("<L", 9) + b"conn="  # rosbag (Python)
 _CONN_OP = struct.pack("<L", 9) + b"conn="  # roscpp writes the fields sorted: conn, op, time
 _OP_AFTER = struct.pack("<L", 4) + b"op=\x02"
 _TIME_FIELD = struct.pack("<L", 13) + b"time="
+_MSG_HEAD = struct.Struct(f"<{len(_MSG_PREFIX)}sL{len(_TIME_FIELD)}sLLL")
+_secs_nsecs = itemgetter(0, 1)
 _FAST = struct.Struct("<L")
 _FAST_TAIL = struct.Struct("<LLL")
 
@@ -159,30 +161,91 @@ def _connection_record(conn: ConnectionInfo) -> bytes:
 
 
 class _ChunkWriter:
-    """Accumulates one chunk's records and its per-connection index."""
+    """Accumulates one chunk's records and its per-connection index.
+
+    ``index`` maps a connection to ``[latest time, secs, nsecs, offset, secs, nsecs,
+    offset, ...]``: the u32 triples of its index record in write order; a connection
+    in ``unsorted`` got a message older than its latest, and its triples are sorted
+    (stably, by time: what inserting each one in order gives) when the chunk closes.
+    """
+
+    __slots__ = ("buf", "end", "index", "start", "unsorted")
 
     def __init__(self, t: int) -> None:
         self.buf = bytearray()
         self.start = self.end = t
-        self.index: dict[int, list[tuple[int, int]]] = {}
+        self.index: dict[int, list[int]] = {}
+        self.unsorted: set[int] = set()
 
     def add(self, t: int, cid: int, data: bytes) -> None:
-        offset = len(self.buf)
+        buf = self.buf
+        offset = len(buf)
+        secs, nsecs = divmod(t, _NS)
+        # header fields op, conn, time: rosbag's order
+        buf += _MSG_HEAD.pack(_MSG_PREFIX, cid, _TIME_FIELD, secs, nsecs, len(data))
+        buf += data
         entries = self.index.get(cid)
         if entries is None:
-            self.index[cid] = [(t, offset)]
-        elif t >= entries[-1][0]:
-            entries.append((t, offset))
+            self.index[cid] = [t, secs, nsecs, offset]
         else:
-            bisect.insort_right(entries, (t, offset), key=_time_key)
+            if t >= entries[0]:
+                entries[0] = t
+            else:
+                self.unsorted.add(cid)
+            entries += (secs, nsecs, offset)
         if t > self.end:
             self.end = t
         elif t < self.start:
             self.start = t
+
+    def fill(self, it: Iterator[Entry], threshold: int, seen: set[int],
+             connections: Mapping[int, ConnectionInfo]) -> bool:
+        """:meth:`add` the entries of ``it`` (a connection's record before its first
+        message) until the chunk holds more than ``threshold`` bytes; False once ``it``
+        is exhausted."""
         buf = self.buf
-        buf += _MSG_PREFIX  # header fields op, conn, time: rosbag's order
-        buf += _MSG_REST.pack(cid, 13, b"time=", t // _NS, t % _NS, len(data))
-        buf += data
+        index = self.index
+        start, end = self.start, self.end
+        pack = _MSG_HEAD.pack
+        try:
+            for t, cid, data in it:
+                if cid not in seen:
+                    seen.add(cid)
+                    buf += _connection_record(connections[cid])
+                offset = len(buf)
+                secs, nsecs = divmod(t, _NS)
+                buf += pack(_MSG_PREFIX, cid, _TIME_FIELD, secs, nsecs, len(data))
+                buf += data
+                entries = index.get(cid)
+                if entries is None:
+                    index[cid] = [t, secs, nsecs, offset]
+                else:
+                    if t >= entries[0]:
+                        entries[0] = t
+                    else:
+                        self.unsorted.add(cid)
+                    entries += (secs, nsecs, offset)
+                if t > end:
+                    end = t
+                elif t < start:
+                    start = t
+                if len(buf) > threshold:
+                    return True
+            return False
+        finally:
+            self.start, self.end = start, end
+
+    def counts(self) -> dict[int, int]:
+        """Messages per connection, in first-message order."""
+        return {cid: (len(e) - 1) // 3 for cid, e in self.index.items()}
+
+    def index_body(self, cid: int) -> bytes:
+        """The entries of connection ``cid``'s index record: ``secs | nsecs | offset``."""
+        flat = self.index[cid][1:]
+        if cid in self.unsorted:
+            triples = sorted(zip(flat[0::3], flat[1::3], flat[2::3]), key=_secs_nsecs)
+            flat = [v for triple in triples for v in triple]
+        return struct.pack(f"<{len(flat)}L", *flat)
 
 
 def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out: IO[bytes], *,
@@ -202,28 +265,19 @@ def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out:
     pos = out.tell() - base
     chunks: list[ChunkStat] = []
     seen: set[int] = set()
-    chunk: _ChunkWriter | None = None
-
-    def close_chunk(ch: _ChunkWriter) -> None:
-        nonlocal pos
-        blob, packed_size, raw_size = _chunk_blob(ch, compression)
+    it = iter(log)
+    more = True
+    while more:
+        first = next(it, None)
+        if first is None:
+            break
+        chunk = _ChunkWriter(first[0])
+        more = chunk.fill(chain((first,), it), chunk_threshold, seen, connections)
+        blob, packed_size, raw_size = _chunk_blob(chunk, compression)
         out.write(blob)
-        chunks.append(ChunkStat(pos, compression, packed_size, raw_size, ch.start, ch.end,
-                                {cid: len(e) for cid, e in ch.index.items()}))
+        chunks.append(ChunkStat(pos, compression, packed_size, raw_size, chunk.start, chunk.end,
+                                chunk.counts()))
         pos += len(blob)
-
-    for t, cid, data in log:
-        if chunk is None:
-            chunk = _ChunkWriter(t)
-        if cid not in seen:
-            seen.add(cid)
-            chunk.buf += _connection_record(connections[cid])
-        chunk.add(t, cid, data)
-        if len(chunk.buf) > chunk_threshold:
-            close_chunk(chunk)
-            chunk = None
-    if chunk is not None:
-        close_chunk(chunk)
     index_pos = pos
     tail = [_connection_record(conn) for cid, conn in connections.items() if cid in seen]
     conn_count = len(tail)
@@ -648,10 +702,10 @@ def _chunk_blob(ch: _ChunkWriter, compression: str) -> tuple[bytes, int, int]:
                           "size": _U32.pack(len(raw))})
     parts = [_U32.pack(len(head)), head, _U32.pack(len(packed)), packed]
     for cid, entries in ch.index.items():
-        body = b"".join(pack_time(t) + _U32.pack(off) for t, off in entries)
         parts.append(encode_record({"op": _B.pack(OP_INDEX_DATA), "conn": _U32.pack(cid),
-                                    "ver": _U32.pack(1), "count": _U32.pack(len(entries))},
-                                   body))
+                                    "ver": _U32.pack(1),
+                                    "count": _U32.pack((len(entries) - 1) // 3)},
+                                   ch.index_body(cid)))
     return b"".join(parts), len(packed), len(raw)
 
 
@@ -708,7 +762,7 @@ class StreamWriter:
         blob, packed, raw = _chunk_blob(ch, self.compression)
         self.out.write(blob)
         self.chunks.append(ChunkStat(self.pos, self.compression, packed, raw, ch.start, ch.end,
-                                     {cid: len(e) for cid, e in ch.index.items()}))
+                                     ch.counts()))
         self.pos += len(blob)
 
     def flush(self) -> None:

@@ -156,3 +156,32 @@ def test_index_entries_are_12_bytes_time_then_offset() -> None:
     assert (secs, nsecs) == (3, 4)
     inner = Cursor(cur.data(chunk), "chunk")
     assert inner.record(offset).time("time") == 3_000_000_004
+
+
+def test_a_chunk_index_lists_late_messages_in_time_order_equal_stamps_in_write_order() -> None:
+    # rosbag inserts each index entry in time order (bisect.insort_right): an entry older than
+    # the connection's latest goes before it, and entries of equal stamps keep write order
+    bag = Bag()
+    stamps = [(5, 0), (3, 0), (5, 0), (4, 7), (3, 0), (9, 1), (4, 7)]
+    for k, (secs, nsecs) in enumerate(stamps):
+        bag.write("/a", Int32(data=k), Time(secs, nsecs))
+        bag.write("/b", Int32(data=100 + k), Time(10 + k))  # in order: its index is untouched
+    data = bag.to_bytes()
+    cur = Cursor(data, "x")
+    chunk = cur.record(cur.record(len(MAGIC)).end)
+    inner = Cursor(cur.data(chunk), "chunk")
+    seen = {}
+    pos = chunk.end
+    for _ in range(2):
+        index = cur.record(pos)
+        body = cur.data(index)
+        entries = [struct.unpack_from("<LLL", body, 12 * k) for k in range(index.u32("count"))]
+        values = []
+        for secs, nsecs, offset in entries:
+            rec = inner.record(offset)
+            assert rec.time("time") == secs * 10**9 + nsecs
+            values.append(((secs, nsecs), struct.unpack("<i", inner.data(rec))[0]))
+        seen[index.u32("conn")] = values
+        pos = index.end
+    assert seen[0] == sorted(((s, k) for k, s in enumerate(stamps)), key=lambda v: v[0])
+    assert seen[1] == [((10 + k, 0), 100 + k) for k in range(len(stamps))]
