@@ -126,13 +126,27 @@ class Rate:
     def sleep(self) -> simpy.Event:
         """Event that fires at the end of the current cycle."""
         clock = self._clock
-        curr = clock.now_ns()
-        remaining = self._remaining(curr)
-        if not clock.is_sim:
-            self._advance(curr)
-            ev: simpy.Event = clock.env.timeout(remaining if remaining > 0 else 0)
+        ev: simpy.Event
+        if type(clock) is KernelClock:
+            # _remaining and _advance inlined on the kernel clock (a loop's hottest call)
+            env = clock.env
+            curr: int = env.now  # NsEnvironment: int ns
+            period = self._period
+            last = self.last_time_ns
+            if last > curr:
+                last = curr
+            remaining = period - (curr - last)
+            last += period
+            self.last_time_ns = curr if curr - last > 2 * period else last
+            ev = env.timeout(remaining if remaining > 0 else 0)
         else:
-            ev = clock.env.process(self._sim_sleep(curr, remaining))
+            curr = clock.now_ns()
+            remaining = self._remaining(curr)
+            if not clock.is_sim:
+                self._advance(curr)
+                ev = clock.env.timeout(remaining if remaining > 0 else 0)
+            else:
+                ev = clock.env.process(self._sim_sleep(curr, remaining))
         setattr(ev, MUST_YIELD, "rate.sleep()")
         return ev
 
