@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from struct import error as _struct_error
 from typing import TypeVar
 
-from ddes.msg.message import Message, serialize_checked
+from ddes.msg.message import Message
 
 __all__ = ["deserialize_message", "serialize_message"]
 
@@ -17,7 +18,12 @@ def serialize_message(msg: Message) -> bytes:
     A bad field raises :class:`~ddes.errors.ROSSerializationException`
     naming the field, its type and the value.
     """
-    return serialize_checked(msg)
+    try:  # serialize_checked, inlined: one call less on this hot path
+        return msg._serialize_to_bytes()
+    except (ArithmeticError, AttributeError, LookupError, TypeError, ValueError,
+            _struct_error) as exc:
+        msg._check_types(exc)
+        raise  # pragma: no cover - check_message always raises when given exc
 
 
 def deserialize_message(cls: type[M], data: bytes | bytearray | memoryview) -> M:
@@ -25,5 +31,4 @@ def deserialize_message(cls: type[M], data: bytes | bytearray | memoryview) -> M
 
     Truncated data raises :class:`~ddes.errors.DeserializationError`.
     """
-    msg = object.__new__(cls)
-    return msg._deserialize_from(data if type(data) is bytes else bytes(data))
+    return object.__new__(cls)._deserialize_from(data if type(data) is bytes else bytes(data))
