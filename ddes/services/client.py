@@ -116,8 +116,8 @@ class ServiceProxy:
         if timeout is not _UNSET and self._field_timeout:
             kwds["timeout"] = timeout
             timeout = _UNSET
-        return must_yield(self._start(args, kwds, self._call_timeout_ns(timeout)).event,
-                          "proxy(request)")
+        timeout_ns = self.timeout_ns if timeout is _UNSET else self._call_timeout_ns(timeout)
+        return must_yield(self._start(args, kwds, timeout_ns).event, "proxy(request)")
 
     __call__ = call
 

@@ -10,6 +10,7 @@ autograder can compare the strings a client sees with real ROS.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import cast
 
 from ddes.errors import DdesError, DdesTypeError, ServiceException
 from ddes.msg.message import Message
@@ -60,6 +61,14 @@ def convert_return_to_response(response: object, response_class: type[Message]) 
     So a bare ``True`` is a valid return only when the response has exactly
     one field (genpy's constructor needs one positional value per field).
     """
+    tp = type(response)
+    if tp is response_class:
+        return cast(Message, response)
+    if tp is int or tp is float or tp is str or tp is bool:  # Resp(x), as rule 4 (never None)
+        try:
+            return response_class(response)
+        except TypeError as exc:
+            raise ServiceException(f"handler returned invalid value: {exc}") from None
     if isinstance(response, Message) and response._type == response_class._type:
         return response
     if type(response) is dict:
@@ -119,6 +128,13 @@ def args_kwds_to_request(request_class: type[Message], args: tuple[object, ...],
     ``rospy.msg.args_kwds_to_message``); the same md5sum but another type
     (``"request object type [...] does not match service type [...]"``).
     """
+    if not kwds and len(args) != 1:  # positional field values (or none): the last case below
+        try:
+            return request_class(*args)
+        except DdesError:
+            raise
+        except TypeError as exc:
+            raise DdesTypeError(str(exc)) from None
     if args and kwds:
         raise DdesTypeError("publish() can be called with arguments or keywords, but not both.")
     request: object

@@ -18,6 +18,7 @@ and holds everything services share: no module-level state.
 from __future__ import annotations
 
 import functools
+import itertools
 import random
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -56,22 +57,25 @@ class ServiceLink:
     A drawn latency (``f(rng)``) needs ``rng``, the pair's own seeded stream.
     """
 
-    __slots__ = ("_fixed_ns", "_draw")
+    __slots__ = ("_fixed_ns", "_draw", "sample_ns")
 
     def __init__(self, latency: LinkLatency, rng: random.Random | None) -> None:
         self._draw: Callable[[], DurationLike] | None = None
         self._fixed_ns = 0
+        #: ``sample_ns()``: the latency of the next one-way message (integer ns).  A fixed
+        #: latency is ``itertools.repeat(ns).__next__``, which calls no Python code.
+        self.sample_ns: Callable[[], int]
         if callable(latency):
             if rng is None:
                 raise DdesValueError("a drawn latency f(rng) needs the link's random stream")
             self._draw = functools.partial(latency, rng)
+            self.sample_ns = self._sample_drawn
         else:
             self._fixed_ns = link_latency_ns(latency)
+            self.sample_ns = itertools.repeat(self._fixed_ns).__next__
 
-    def sample_ns(self) -> int:
-        """Latency of the next one-way message (integer ns)."""
-        if self._draw is None:
-            return self._fixed_ns
+    def _sample_drawn(self) -> int:
+        assert self._draw is not None
         return link_latency_ns(self._draw())
 
 

@@ -21,7 +21,8 @@ latency later (``"transport error completing service call: ..."``).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from ddes.errors import ROSSerializationException
 
@@ -115,9 +116,9 @@ class PendingCall:
         proxy = self.proxy
         trace = proxy.world.trace
         if trace.enabled:
-            snapshot = _snapshot(request, self.data)
             trace.append_row((self.t0, "service.call", proxy.node.name, _CALL_KEYS,
-                               proxy.resolved_name, self.id, proxy.persistent, snapshot))
+                               proxy.resolved_name, self.id, proxy.persistent,
+                               _snapshot(request, self.data)))
         else:
             trace.append_row((self.t0, "service.call", proxy.node.name, _CALL_KEYS))
 
@@ -127,11 +128,19 @@ class PendingCall:
         proxy = self.proxy
         proxy._pending.pop(self.id, None)
         cls = proxy.response_class
-        response = cls.__new__(cls)._deserialize_from(data)
+        response = _new(cls)._deserialize_from(data)
         world = proxy.world
         now: int = world.env.now_ns
         latency = now - self.t0
-        self.stats.add_latency(latency)
+        stats = self.stats  # ServiceStats.add_latency, inline
+        stats.succeeded += 1
+        stats.latency_total_ns += latency
+        low = stats.latency_min_ns
+        if low is None or latency < low:
+            stats.latency_min_ns = latency
+        high = stats.latency_max_ns
+        if high is None or latency > high:
+            stats.latency_max_ns = latency
         trace = world.trace
         if trace.enabled:
             trace.append_row((now, "service.response", proxy.node.name, _RESPONSE_KEYS,
@@ -154,6 +163,59 @@ class PendingCall:
 
 
 def _snapshot(msg: Message, data: bytes) -> Message:
-    """An independent copy of ``msg`` for the trace (what went over the wire)."""
+    """An independent copy of ``msg`` for the trace (what went over the wire).
+
+    It is read from ``data`` only when something looks at it (a digest, a
+    query of the trace): until then it holds the wire bytes.
+    """
     cls = type(msg)
-    return cls.__new__(cls)._deserialize_from(data)
+    made = _SNAPSHOT_CLASSES.get(cls)
+    if made is None:
+        made = _SNAPSHOT_CLASSES[cls] = _snapshot_class(cls)
+    snap = _new(made[0])
+    made[1](snap, data)
+    return snap
+
+
+#: Per message class: its snapshot class and the setter of the snapshot's wire bytes.
+_SNAPSHOT_CLASSES: dict[type[Message], tuple[type[Message], Callable[[Message, bytes], None]]] = {}
+_new = object.__new__
+_WIRE = "_ddes_wire"
+
+
+def _snapshot_class(cls: type[Message]) -> tuple[type[Message], Callable[[Message, bytes], None]]:
+    """A subclass of ``cls`` whose instances hold wire bytes until a field is read or set.
+
+    The first read or write of any attribute fills every field from the bytes
+    (``cls._deserialize_from``), so it behaves as the message itself: equal to
+    it, the same fields, ``__slots__``, ``_type``, name and canonical trace form.
+    """
+    meta: Any = type(cls)
+    snap: type[Message] = meta(cls.__name__, (cls,), {
+        "__slots__": (_WIRE,), "__module__": cls.__module__, "__qualname__": cls.__qualname__,
+        "__doc__": cls.__doc__})
+    wire = snap.__dict__[_WIRE]
+    get_wire, drop_wire = wire.__get__, wire.__delete__
+    fill = cls._deserialize_from
+    set_attr, get_attr = object.__setattr__, object.__getattribute__
+
+    def read(self: Message) -> None:
+        try:
+            data = get_wire(self, snap)
+        except AttributeError:
+            return  # read already (or a copy, which never held bytes)
+        drop_wire(self)
+        fill(self, data)
+
+    def __getattr__(self: Message, name: str) -> object:
+        read(self)
+        return get_attr(self, name)
+
+    def __setattr__(self: Message, name: str, value: object) -> None:
+        read(self)
+        set_attr(self, name, value)
+
+    setattr(snap, "__getattr__", __getattr__)  # noqa: B010 - set on the class
+    setattr(snap, "__setattr__", __setattr__)  # noqa: B010
+    snap.__slots__ = cls.__slots__  # what equality, copies and the trace's encoder walk
+    return snap, wire.__set__
