@@ -13,8 +13,18 @@ import struct
 import pytest
 
 from ddes import Duration, Time
-from ddes.errors import DdesAttributeError, DdesTypeError, DeserializationError, ROSSerializationException
-from ddes.msg import deserialize_message, get_message_class, message_class_from_definition, serialize_message
+from ddes.errors import (
+    DdesAttributeError,
+    DdesTypeError,
+    DeserializationError,
+    ROSSerializationException,
+)
+from ddes.msg import (
+    deserialize_message,
+    get_message_class,
+    message_class_from_definition,
+    serialize_message,
+)
 from ddes.msg.gentools import SEPARATOR as SEP
 
 String = get_message_class("std_msgs/String")
