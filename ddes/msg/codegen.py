@@ -727,7 +727,11 @@ def _init_source(src: _Source, cls_name: str, infos: tuple[FieldInfo, ...]) -> N
         src.emit(2, f"if {'_k or ' if i == 0 else ''}{chunk}: raise _TypeErr({_BOTH})")
     src.emit(2, f"if _len(_a) != {len(infos)}: raise _TypeErr(_NARGS % (_a,))")
     src.emit(2, f"{', '.join(names)}, = _a")
-    src.emit(1, "elif _k: raise _AttrErr(_NOATTR % (_next(_iter(_k)),))")
+    for info in infos:
+        n = info.name
+        src.emit(2, f"_s.{n} = {_default_expr(src, info)} if {n} is None else {n}")
+    src.emit(2, "return")
+    src.emit(1, "if _k: raise _AttrErr(_NOATTR % (_next(_iter(_k)),))")
     for info in infos:
         n = info.name
         src.emit(1, f"_s.{n} = {_default_expr(src, info)} if {n} is _U or {n} is None else {n}")

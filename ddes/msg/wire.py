@@ -11,6 +11,8 @@ __all__ = ["deserialize_message", "serialize_message"]
 
 M = TypeVar("M", bound=Message)
 
+_new = object.__new__
+
 
 def serialize_message(msg: Message) -> bytes:
     """The ROS 1 wire bytes of ``msg`` (what ``msg.serialize(buff)`` writes).
@@ -31,4 +33,4 @@ def deserialize_message(cls: type[M], data: bytes | bytearray | memoryview) -> M
 
     Truncated data raises :class:`~ddes.errors.DeserializationError`.
     """
-    return object.__new__(cls)._deserialize_from(data if type(data) is bytes else bytes(data))
+    return _new(cls)._deserialize_from(data if type(data) is bytes else bytes(data))
