@@ -38,10 +38,10 @@ from typing import TYPE_CHECKING, Final, cast
 
 from ddes.errors import ROSInterruptException, ServiceException, ServiceTimeout
 from ddes.kernel.events import Posted, post
-from ddes.services.convert import args_kwds_to_request, check_service_class
+from ddes.services.convert import check_service_class
 from ddes.services.network import network_of
 from ddes.services.server import check_service_name
-from ddes.services.transport import PendingCall, ServiceConnection, serialize
+from ddes.services.transport import PendingCall, ServiceConnection, open_call
 from ddes.services.waiting import check_nonzero_timeout, wait_for_service, wait_for_service_ns
 from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 from ddes.time.sleep import must_yield
@@ -130,24 +130,19 @@ class ServiceProxy:
 
     def _start(self, args: tuple[object, ...], kwds: dict[str, object],
                timeout_ns: int | None) -> PendingCall:
+        """Start one call: its request leaves now, or once its connection is made.
+
+        :func:`~ddes.services.transport.open_call` checks the node, builds the
+        request by rospy's rules, serializes it, counts and traces the call
+        (``service.call``) and holds it as pending.  Then, by the proxy's state:
+        a broken persistent proxy fails it; an open connection sends it at once
+        (or queues it behind the header exchange in progress); otherwise the
+        master is asked for the server and a new connection starts (header hop).
+        """
+        call = open_call(self, args, kwds)
         node = self.node
-        node.check_alive("call a service")
-        request: Message
-        if len(args) == 1 and not kwds and type(args[0]) is self.request_class:
-            request = args[0]
-        else:
-            request = args_kwds_to_request(self.request_class, args, kwds)
-        data = serialize(request)
         world = self.world
         name = self.resolved_name
-        stats = self._stats
-        if stats is None:
-            stats = self._stats = network_of(world).stats_for(name)
-        stats.calls += 1
-        self.seq += 1
-        call = PendingCall(self, data, world.env.event(), stats)
-        call.trace_call(request)
-        self._pending[call.id] = call
         if timeout_ns is not None:
             self._arm_timeout(call, timeout_ns)
         conn = self._transport
@@ -162,8 +157,13 @@ class ServiceProxy:
             call.conn = conn
             if not conn.ready:
                 conn.waiting.append(call)  # the request leaves once the header exchange is done
-            else:
-                self._send_request(conn, call, world.env.now_ns)
+            else:  # _send_request(conn, call, now), inline (the hot path of a persistent proxy)
+                call.sent_at = now = call.t0
+                at = now + conn.link.sample_ns()
+                if at < conn.last_request:
+                    at = conn.last_request
+                conn.last_request = at
+                post(world.env, at - now, (conn, call), self._on_request)
             return call
         entry = world.master.lookup_service(name)
         if entry is None:

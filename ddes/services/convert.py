@@ -128,13 +128,6 @@ def args_kwds_to_request(request_class: type[Message], args: tuple[object, ...],
     ``rospy.msg.args_kwds_to_message``); the same md5sum but another type
     (``"request object type [...] does not match service type [...]"``).
     """
-    if not kwds and len(args) != 1:  # positional field values (or none): the last case below
-        try:
-            return request_class(*args)
-        except DdesError:
-            raise
-        except TypeError as exc:
-            raise DdesTypeError(str(exc)) from None
     if args and kwds:
         raise DdesTypeError("publish() can be called with arguments or keywords, but not both.")
     request: object

@@ -24,7 +24,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from ddes.errors import ROSSerializationException
+from ddes.errors import DdesError, DdesTypeError, ROSSerializationException
+from ddes.services.convert import args_kwds_to_request
+from ddes.services.network import network_of
 
 if TYPE_CHECKING:
     import simpy
@@ -34,7 +36,7 @@ if TYPE_CHECKING:
     from ddes.services.network import ServiceLink, ServiceStats
     from ddes.services.server import Service
 
-__all__ = ["PendingCall", "ServiceConnection", "serialize"]
+__all__ = ["PendingCall", "ServiceConnection", "open_call", "serialize"]
 
 _CALL_KEYS = ("service", "call", "persistent", "request")
 _RESPONSE_KEYS = ("service", "call", "latency", "response")
@@ -112,16 +114,6 @@ class PendingCall:
         self.server_text: str | None = None
         self.stats = stats
 
-    def trace_call(self, request: Message) -> None:
-        proxy = self.proxy
-        trace = proxy.world.trace
-        if trace.enabled:
-            trace.append_row((self.t0, "service.call", proxy.node.name, _CALL_KEYS,
-                               proxy.resolved_name, self.id, proxy.persistent,
-                               _snapshot(request, self.data)))
-        else:
-            trace.append_row((self.t0, "service.call", proxy.node.name, _CALL_KEYS))
-
     def succeed(self, data: bytes) -> None:
         """The response arrived: deserialize the client's copy and wake the caller."""
         self.done = True
@@ -160,6 +152,48 @@ class PendingCall:
         world.trace.append_row((now, "service.error", proxy.node.name, _ERROR_KEYS,
                                  proxy.resolved_name, self.id, now - self.t0, reason, str(exc)))
         self.event.fail(exc)
+
+
+def open_call(proxy: ServiceProxy, args: tuple[object, ...], kwds: dict[str, object]) -> PendingCall:
+    """The first steps of ``proxy(*args, **kwds)``, in one frame: check that the node is
+    alive, build the request (:func:`~ddes.services.convert.args_kwds_to_request`'s rules),
+    serialize it, count the call, trace it (``service.call``, with a snapshot of the request)
+    and hold it in ``proxy._pending``."""
+    node = proxy.node
+    node.check_alive("call a service")
+    request: Message
+    cls = proxy.request_class
+    if kwds or len(args) == 1:
+        if len(args) == 1 and not kwds and type(args[0]) is cls:
+            request = args[0]
+        else:
+            request = args_kwds_to_request(cls, args, kwds)
+    else:  # positional field values (or none): args_kwds_to_request's last rule, inline
+        try:
+            request = cls(*args)
+        except DdesError:
+            raise
+        except TypeError as exc:
+            raise DdesTypeError(str(exc)) from None
+    try:
+        data = request._serialize_to_bytes()
+    except Exception:  # noqa: BLE001 - serialize() raises the error that names the field
+        data = serialize(request)
+    world = proxy.world
+    stats = proxy._stats
+    if stats is None:
+        stats = proxy._stats = network_of(world).stats_for(proxy.resolved_name)
+    stats.calls += 1
+    proxy.seq += 1
+    call = PendingCall(proxy, data, world.env.event(), stats)
+    trace = world.trace
+    if trace.enabled:
+        trace.append_row((call.t0, "service.call", node.name, _CALL_KEYS, proxy.resolved_name,
+                          call.id, proxy.persistent, _snapshot(request, data)))
+    else:
+        trace.append_row((call.t0, "service.call", node.name, _CALL_KEYS))
+    proxy._pending[call.id] = call
+    return call
 
 
 def _snapshot(msg: Message, data: bytes) -> Message:
