@@ -168,10 +168,6 @@ def _native(fmt: str, packing: bool) -> bool:
     return struct.calcsize("@" + fmt) == struct.calcsize("<" + fmt)
 
 
-def _pack_f64(seq: Any) -> bytes:
-    return struct.pack(("@%dd" if _NATIVE_LE else "<%dd") % len(seq), *seq)
-
-
 def _make_time(secs: int, nsecs: int) -> Time:
     t = object.__new__(Time)
     t.secs = secs
@@ -203,7 +199,7 @@ class _Source:
             struct.unpack_from, "_trunc": _trunc, "_flen": _fixed_len_error,
             "_TypeErr": DdesTypeError, "_AttrErr": DdesAttributeError,
             "_many": _too_many, "_zero": _check_zero, "_np": numpy,
-            "_pk_d": _pack_f64, "_U": _UNSET, "_range": range,
+            "_spack": struct.pack, "_U": _UNSET, "_range": range,
             "_len": len, "_next": next, "_iter": iter, "_fresh_T": _fresh_time,
             "_fresh_D": _fresh_duration,
         }
@@ -422,10 +418,9 @@ def _ser_fields(src: _Source, wr: _Writer, pk: _Packer, infos: tuple[FieldInfo, 
             continue
         if info.kind in ("int", "float", "bool"):
             pk.flush(indent)
-            if info.base_type == "float64":
-                wr.write(indent, f"_pk_d({tmp})")
-            else:
-                wr.write(indent, f"_pack_array({SIMPLE_STRUCT[info.base_type]!r}, {tmp})")
+            code = SIMPLE_STRUCT[info.base_type]
+            order = "@" if _native(code, True) else "<"
+            wr.write(indent, f"_spack('{order}%d{code}' % len({tmp}), *{tmp})")
             continue
         pk.flush(indent)
         wr.loop()
