@@ -714,8 +714,9 @@ def _init_source(src: _Source, cls_name: str, infos: tuple[FieldInfo, ...]) -> N
         _init_source_generic(src, infos)
         return
     # the fields are keyword-only parameters (unset ones are _U); positional values come in
-    # _a, unknown keywords in _k.  Field names start with a letter, so no name clashes.
-    src.emit(0, f"def __init__(_s, *_a, {', '.join(f'{n}=_U' for n in names)}, **_k):")
+    # _a, unknown keywords in _k.  Field names start with a letter and 'self' is renamed
+    # self_, so none clashes with these names or the globals (_U, _len...) used here.
+    src.emit(0, f"def __init__(self, *_a, {', '.join(f'{n}=_U' for n in names)}, **_k):")
     src.emit(1, "if _a:")
     for i in range(0, len(names), 32):
         chunk = " or ".join(f"{n} is not _U" for n in names[i:i + 32])
@@ -724,12 +725,12 @@ def _init_source(src: _Source, cls_name: str, infos: tuple[FieldInfo, ...]) -> N
     src.emit(2, f"{', '.join(names)}, = _a")
     for info in infos:
         n = info.name
-        src.emit(2, f"_s.{n} = {_default_expr(src, info)} if {n} is None else {n}")
+        src.emit(2, f"self.{n} = {_default_expr(src, info)} if {n} is None else {n}")
     src.emit(2, "return")
     src.emit(1, "if _k: raise _AttrErr(_NOATTR % (_next(_iter(_k)),))")
     for info in infos:
         n = info.name
-        src.emit(1, f"_s.{n} = {_default_expr(src, info)} if {n} is _U or {n} is None else {n}")
+        src.emit(1, f"self.{n} = {_default_expr(src, info)} if {n} is _U or {n} is None else {n}")
 
 
 def _init_source_generic(src: _Source, infos: tuple[FieldInfo, ...]) -> None:
