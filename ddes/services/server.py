@@ -193,6 +193,13 @@ class Service:
 
     def _serve(self, conn: ServiceConnection, call: PendingCall,
                request: Message) -> _Serving | None:
+        """Run the handler on ``request`` and send back what it returns.
+
+        A rospy-style handler returning at once to a client still listening takes
+        the short way (its value converted by rospy's rules, serialized, sent: what
+        :meth:`_finish` and :meth:`_send` do); a roscpp-style handler, a generator,
+        and a client or server gone meanwhile go through :meth:`_finish`.
+        """
         self._stats.served += 1
         response = None
         try:
@@ -206,7 +213,22 @@ class Service:
             return None
         if type(result) is GeneratorType:
             return self._serve_generator(conn, call, result, response)
-        self._finish(conn, call, result, response)
+        if response is not None or conn.server_gone or call.done:
+            self._finish(conn, call, result, response)
+            return None
+        try:  # _finish for a rospy handler's value, inline
+            data = serialize(convert_return_to_response(result, self.response_class))
+        except ServiceException as exc:
+            self._send(conn, call, False, server_error_text(exc, self.style))
+            return None
+        except Exception as exc:  # noqa: BLE001
+            self._handler_failed(conn, call, exc)
+            return None
+        call.responded = True  # _send's steps, for a client still listening
+        if not conn.persistent:
+            conn.closed = True
+            self._conns.pop(conn.id, None)
+        conn.proxy._send_response(conn, call, True, data)
         return None
 
     def _serve_generator(self, conn: ServiceConnection, call: PendingCall,
@@ -218,28 +240,6 @@ class Service:
             self._handler_failed(conn, call, exc)
             return
         self._finish(conn, call, result, response)
-
-    def _finish(self, conn: ServiceConnection, call: PendingCall, result: object,
-                response: Message | None) -> None:
-        try:
-            if response is None:
-                msg = convert_return_to_response(result, self.response_class)
-            else:
-                if not roscpp_result(result):
-                    self._send(conn, call, False, "")
-                    return
-                msg = response
-            data = serialize(msg)
-        except ServiceException as exc:
-            if self.style == "roscpp":
-                self._handler_failed(conn, call, exc)
-            else:
-                self._send(conn, call, False, server_error_text(exc, self.style))
-            return
-        except Exception as exc:  # noqa: BLE001
-            self._handler_failed(conn, call, exc)
-            return
-        self._send(conn, call, True, data)
 
     def _handler_failed(self, conn: ServiceConnection, call: PendingCall, exc: Exception) -> None:
         if isinstance(exc, ServiceException) and self.style == "rospy":
@@ -273,6 +273,28 @@ class Service:
             conn.closed = True
             self._conns.pop(conn.id, None)
         conn.proxy._send_response(conn, call, ok, payload)
+
+    def _finish(self, conn: ServiceConnection, call: PendingCall, result: object,
+                response: Message | None) -> None:
+        try:
+            if response is None:
+                msg = convert_return_to_response(result, self.response_class)
+            else:
+                if not roscpp_result(result):
+                    self._send(conn, call, False, "")
+                    return
+                msg = response
+            data = serialize(msg)
+        except ServiceException as exc:
+            if self.style == "roscpp":
+                self._handler_failed(conn, call, exc)
+            else:
+                self._send(conn, call, False, server_error_text(exc, self.style))
+            return
+        except Exception as exc:  # noqa: BLE001
+            self._handler_failed(conn, call, exc)
+            return
+        self._send(conn, call, True, data)
 
     def __repr__(self) -> str:
         state = "closed" if self._closed else "serving"
