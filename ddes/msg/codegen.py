@@ -70,6 +70,9 @@ _STRUCT_I = struct.Struct("<I")
 #: The native-order Struct ('@') reads and writes the standard little-endian layout.
 _NATIVE_LE = (sys.byteorder == "little" and struct.calcsize("@f") == 4
               and struct.calcsize("@d") == 8)
+#: Lengths below this have their uint32 prefix ready-made (``_LP``).
+_LEN_PREFIXES = 1024
+_LEN_PREFIX = tuple(_STRUCT_I.pack(n) for n in range(_LEN_PREFIXES))
 _USES_N = re.compile(r"\b_n\b")
 _UNSET: Any = type("_Unset", (), {"__repr__": lambda self: "<unset>", "__slots__": ()})()
 
@@ -199,7 +202,7 @@ class _Source:
             struct.unpack_from, "_trunc": _trunc, "_flen": _fixed_len_error,
             "_TypeErr": DdesTypeError, "_AttrErr": DdesAttributeError,
             "_many": _too_many, "_zero": _check_zero, "_np": numpy,
-            "_spack": struct.pack, "_U": _UNSET, "_range": range,
+            "_spack": struct.pack, "_U": _UNSET, "_LP": _LEN_PREFIX, "_range": range,
             "_len": len, "_next": next, "_iter": iter, "_fresh_T": _fresh_time,
             "_fresh_D": _fresh_duration,
         }
@@ -380,7 +383,13 @@ class _Packer:
         if not self.codes:
             return
         name = self.src.packer("".join(self.codes))
-        self.wr.write(indent, f"{name}({', '.join(self.exprs)})")
+        expr = f"{name}({', '.join(self.exprs)})"
+        if self.codes == ["I"] and self.exprs[0].startswith("len("):
+            # a lone length prefix (a string or array after variable-length data): short
+            # ones come from a table of ready-made prefixes
+            n = self.src.var("_n")
+            expr = f"(_LP[{n}] if ({n} := {self.exprs[0]}) < {_LEN_PREFIXES} else {name}({n}))"
+        self.wr.write(indent, expr)
         self.codes, self.exprs = [], []
 
 
