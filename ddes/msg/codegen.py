@@ -155,10 +155,6 @@ def _to_bytes(value: Any) -> bytes:
     return bytes(value)
 
 
-def _pack_array(code: str, seq: Any) -> bytes:
-    return struct.pack(f"<{len(seq)}{code}", *seq)
-
-
 def _native(fmt: str, packing: bool) -> bool:
     """Whether ``'@' + fmt`` may replace ``'<' + fmt``: same bytes, same values, same errors.
 
@@ -171,24 +167,6 @@ def _native(fmt: str, packing: bool) -> bool:
     return struct.calcsize("@" + fmt) == struct.calcsize("<" + fmt)
 
 
-def _make_time(secs: int, nsecs: int) -> Time:
-    t = object.__new__(Time)
-    t.secs = secs
-    t.nsecs = nsecs
-    if nsecs >= 1_000_000_000:
-        t.canon()
-    return t
-
-
-def _make_duration(secs: int, nsecs: int) -> Duration:
-    d = object.__new__(Duration)
-    d.secs = secs
-    d.nsecs = nsecs
-    if not 0 <= nsecs < 1_000_000_000:
-        d.canon()
-    return d
-
-
 class _Source:
     """Lines of generated code plus the objects they reference."""
 
@@ -197,9 +175,8 @@ class _Source:
         self.lines: list[str] = []
         self.ns: dict[str, Any] = {
             "_struct": struct, "_I": _STRUCT_I, "_Time": Time, "_Duration": Duration,
-            "_new": object.__new__, "_mkT": _make_time, "_mkD": _make_duration,
-            "_to_bytes": _to_bytes, "_pack_array": _pack_array, "_unpack_from":
-            struct.unpack_from, "_trunc": _trunc, "_flen": _fixed_len_error,
+            "_new": object.__new__, "_to_bytes": _to_bytes, "_unpack_from": struct.unpack_from,
+            "_trunc": _trunc, "_flen": _fixed_len_error,
             "_TypeErr": DdesTypeError, "_AttrErr": DdesAttributeError,
             "_many": _too_many, "_zero": _check_zero, "_np": numpy,
             "_spack": struct.pack, "_U": _UNSET, "_LP": _LEN_PREFIX, "_range": range,
@@ -654,7 +631,7 @@ def _de_scalar(src: _Source, up: _Unpacker, info: FieldInfo, ref: str, indent: i
         up.add("B", tmp)
         up.post.append(f"{ref} = {tmp} != 0")
     elif kind in ("time", "duration"):
-        # built first and filled by the unpack; canonicalised as _make_time/_make_duration do
+        # built first and filled by the unpack, then canonicalised (nsecs into [0, 1e9))
         tmp = src.var("_t")
         src.emit(indent, f"{tmp} = _new({'_Time' if kind == 'time' else '_Duration'})")
         code = "I" if kind == "time" else "i"
