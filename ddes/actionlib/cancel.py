@@ -35,6 +35,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from enum import Enum
+from typing import Any, TypeVar
 
 from ddes.actionlib.goal_id import GoalIdGenerator, check_ns
 from ddes.actionlib.states import (
@@ -213,6 +214,37 @@ class Publication:
     statuses: tuple[GoalTracker, ...]
 
 
+_D = TypeVar("_D")
+_new = object.__new__
+_set = object.__setattr__
+
+
+def _made(cls: type[_D], fields: dict[str, Any]) -> _D:
+    """``cls(**fields)`` for a frozen dataclass given *every* field (in order), already checked:
+    what its ``__init__`` stores, without running it (nor ``__post_init__``).  ``fields`` (a
+    new dict) becomes the instance's ``__dict__``.  The hot path's constructor."""
+    obj: _D = _new(cls)
+    _set(obj, "__dict__", fields)
+    return obj
+
+
+def _evolve(t: GoalTracker, changes: dict[str, Any]) -> GoalTracker:
+    """``dataclasses.replace(t, **changes)`` for changes already checked (a GoalStatus member,
+    a str text, int nanoseconds >= 0, a bool)."""
+    if type(t) is not GoalTracker:
+        return replace(t, **changes)
+    return _made(GoalTracker, {**t.__dict__, **changes})
+
+
+def _tracker(goal_id: str, stamp_ns: int, status: GoalStatus, serial: int, *,
+             has_goal: bool = True, has_handle: bool = True,
+             destruction_time_ns: int = 0) -> GoalTracker:
+    """A new :class:`GoalTracker` from checked values (``goal_id`` a str, int ns >= 0)."""
+    return _made(GoalTracker, {"goal_id": goal_id, "stamp_ns": stamp_ns, "status": status,
+                               "text": "", "has_goal": has_goal, "has_handle": has_handle,
+                               "destruction_time_ns": destruction_time_ns, "serial": serial})
+
+
 def is_expired(tracker: GoalTracker, now_ns: int, status_list_timeout_ns: int) -> bool:
     """ROS's pruning test: ``destruction_time != 0 and destruction_time + timeout < now``."""
     t = tracker.destruction_time_ns
@@ -231,6 +263,9 @@ class _Book:
     """A mutable working copy for one call: entries are boxes, so a pruned entry still
     seen by a loop over an earlier copy keeps being updated, as ROS's objects are."""
 
+    __slots__ = ("boxes", "now_ns", "timeout_ns", "last_cancel_ns", "created", "publications",
+                 "removed", "errors")
+
     def __init__(self, goals: ServerGoals, now_ns: int) -> None:
         self.boxes: list[list[GoalTracker]] = [[t] for t in goals.trackers]
         self.now_ns = now_ns
@@ -242,24 +277,28 @@ class _Book:
         self.errors: list[str] = []  # what rospy logs with logerr, in order
 
     def publish_status(self) -> None:
+        now_ns, timeout_ns = self.now_ns, self.timeout_ns
         kept = []
         for box in self.boxes:
-            if is_expired(box[0], self.now_ns, self.timeout_ns):
+            t = box[0].destruction_time_ns  # is_expired(), inline
+            if t != 0 and t + timeout_ns < now_ns:
                 self.removed.append(box[0])
             else:
                 kept.append(box)
         self.boxes = kept
-        entries = tuple(box[0] for box in self.boxes)
-        self.publications.append(Publication(PublicationTopic.STATUS, self.now_ns, entries))
+        entries = tuple([box[0] for box in kept])
+        self.publications.append(_made(Publication, {
+            "topic": PublicationTopic.STATUS, "stamp_ns": now_ns, "statuses": entries}))
 
     def publish_result(self, tracker: GoalTracker) -> None:
-        self.publications.append(Publication(PublicationTopic.RESULT, self.now_ns, (tracker,)))
+        self.publications.append(_made(Publication, {
+            "topic": PublicationTopic.RESULT, "stamp_ns": self.now_ns, "statuses": (tracker,)}))
         self.publish_status()
 
     def goals(self, template: ServerGoals) -> ServerGoals:
-        trackers = tuple(b[0] for b in self.boxes)
-        return ServerGoals(trackers, self.last_cancel_ns, template.status_list_timeout_ns,
-                           self.created)
+        return _made(ServerGoals, {
+            "trackers": tuple([b[0] for b in self.boxes]), "last_cancel_ns": self.last_cancel_ns,
+            "status_list_timeout_ns": template.status_list_timeout_ns, "created": self.created})
 
     def serial(self) -> int:
         self.created += 1
@@ -280,13 +319,14 @@ class _Book:
                 self.errors.append(tr.error)
             return tr
         if event is ServerEvent.CANCEL_REQUEST:
-            box[0] = replace(t, status=tr.after)
+            box[0] = _evolve(t, {"status": tr.after})
             self.publish_status()
         elif tr.after in TERMINAL_STATUSES:
-            box[0] = replace(t, status=tr.after, text=text, destruction_time_ns=self.now_ns)
+            box[0] = _evolve(t, {"status": tr.after, "text": text,
+                                 "destruction_time_ns": self.now_ns})
             self.publish_result(box[0])
         else:
-            box[0] = replace(t, status=tr.after, text=text)
+            box[0] = _evolve(t, {"status": tr.after, "text": text})
             self.publish_status()
         return tr
 
@@ -384,8 +424,10 @@ def receive_goal(
     """
     if not isinstance(goal_id, str):
         raise DdesTypeError(f"goal id must be a str, got {goal_id!r}")
-    check_ns(stamp_ns, "goal stamp_ns")
-    check_ns(now_ns, "now_ns")
+    if type(stamp_ns) is not int or stamp_ns < 0:
+        check_ns(stamp_ns, "goal stamp_ns")
+    if type(now_ns) is not int or now_ns < 0:
+        check_ns(now_ns, "now_ns")
     book = _Book(goals, now_ns)
     for box in list(book.boxes):
         t = box[0]
@@ -393,11 +435,11 @@ def receive_goal(
             continue
         arrival = GoalArrival.DUPLICATE
         if t.status is GoalStatus.RECALLING:
-            box[0] = t = replace(t, status=GoalStatus.RECALLED)
+            box[0] = t = _evolve(t, {"status": GoalStatus.RECALLED})
             arrival = GoalArrival.DUPLICATE_RECALLED
             book.publish_result(t)
         if not t.has_handle:
-            box[0] = replace(t, destruction_time_ns=now_ns)
+            box[0] = _evolve(t, {"destruction_time_ns": now_ns})
         return GoalOutcome(book.goals(goals), arrival, box[0], tuple(book.publications))
     if goal_id == "":
         generated = ids.generate_id(now_ns)
@@ -405,14 +447,19 @@ def receive_goal(
     else:
         tracked_stamp = stamp_ns if stamp_ns != 0 else now_ns
         tracked_id, tested_stamp = goal_id, tracked_stamp
-    box = [GoalTracker(tracked_id, tracked_stamp, GoalStatus.PENDING, serial=book.serial())]
+    if goal_id == "":  # a generator's id: checked by GoalTracker
+        box = [GoalTracker(tracked_id, tracked_stamp, GoalStatus.PENDING, serial=book.serial())]
+    else:
+        box = [_tracker(tracked_id, tracked_stamp, GoalStatus.PENDING, book.serial())]
     book.boxes.append(box)
     if tested_stamp != 0 and tested_stamp <= book.last_cancel_ns:
         tr = book.apply(box, ServerEvent.CANCEL, CANCELED_BY_STAMP_TEXT)
         return GoalOutcome(
             book.goals(goals), GoalArrival.CANCELED_BY_STAMP, box[0], tuple(book.publications), tr
         )
-    return GoalOutcome(book.goals(goals), GoalArrival.NEW, box[0])
+    return _made(GoalOutcome, {"goals": book.goals(goals), "arrival": GoalArrival.NEW,
+                               "tracker": box[0], "publications": (), "transition": None,
+                               "errors": ()})
 
 
 def receive_cancel(goals: ServerGoals, request: CancelRequest, now_ns: int) -> CancelOutcome:
@@ -436,7 +483,7 @@ def receive_cancel(goals: ServerGoals, request: CancelRequest, now_ns: int) -> C
         if request.id == t.goal_id:
             found = True
         if not t.has_handle:
-            box[0] = replace(t, has_handle=True, destruction_time_ns=now_ns)
+            box[0] = _evolve(t, {"has_handle": True, "destruction_time_ns": now_ns})
         tr = book.apply(box, ServerEvent.CANCEL_REQUEST, "")
         transitions.append(tr)
         if tr.legal:
@@ -471,7 +518,8 @@ def apply_goal_event(
     call sets (a cancel request keeps the old text).  An illegal call changes
     nothing and publishes nothing; ``transition.error`` holds ROS's log text.
     """
-    check_ns(now_ns, "now_ns")
+    if type(now_ns) is not int or now_ns < 0:
+        check_ns(now_ns, "now_ns")
     if not isinstance(text, str):
         raise DdesTypeError(f"status text must be a str, got {text!r}")
     if isinstance(event, str) and not isinstance(event, ServerEvent):
@@ -483,7 +531,11 @@ def apply_goal_event(
     book = _Book(goals, now_ns)
     if isinstance(goal, GoalTracker):
         serial = goal.serial
-        box = next((b for b in book.boxes if b[0].serial == serial), [goal])
+        box = [goal]
+        for b in book.boxes:
+            if b[0].serial == serial:
+                box = b
+                break
     elif isinstance(goal, str):
         found = next((b for b in book.boxes if b[0].goal_id == goal), None)
         if found is None:
@@ -495,10 +547,10 @@ def apply_goal_event(
         box = found
     else:
         raise DdesTypeError(f"goal must be a goal id (str) or a GoalTracker, got {goal!r}")
-    tr = book.apply(box, ServerEvent(event), text)
-    return EventOutcome(
-        book.goals(goals), tr, box[0], tuple(book.publications), tuple(book.errors)
-    )
+    tr = book.apply(box, event if type(event) is ServerEvent else ServerEvent(event), text)
+    return _made(EventOutcome, {"goals": book.goals(goals), "transition": tr, "tracker": box[0],
+                                "publications": tuple(book.publications),
+                                "errors": tuple(book.errors)})
 
 
 def publish_status(goals: ServerGoals, now_ns: int) -> StatusOutcome:

@@ -86,7 +86,7 @@ _TERMINAL_OR_LOST = frozenset({GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED, GoalS
 
 
 def _status_name(status: int) -> str:
-    return GoalStatus(status).name if 0 <= status <= GoalStatus.LOST else str(status)
+    return _STATUS_NAMES[status] if 0 <= status <= GoalStatus.LOST else str(status)
 
 
 class _CommStateMachine:
@@ -132,9 +132,9 @@ class _CommStateMachine:
         client = self.client
         before = self.state
         self.state = state
-        client.node.world.record("action.client.transition", client.node.name, ns=client.ns,
-                                 id=self.goal_id, before=before.name, after=state.name,
-                                 status=_status_name(self.status))
+        client._trace.append_row((client._env.now_ns, "action.client.transition", client._source,
+                                  _TRANSITION_KEYS, client.ns, self.goal_id, _COMM_NAMES[before],
+                                  _COMM_NAMES[state], _status_name(self.status)))
         if self.transition_cb is not None:
             chain.call(self.transition_cb, ClientGoalHandle(self))
         if self.state_cb is not None:
@@ -247,7 +247,9 @@ class ActionClient:
         self.ActionResult = self.types.action_result
         self.ActionFeedback = self.types.action_feedback
         self._GoalID = get_message_class("actionlib_msgs/GoalID")
+        self._Header = type(self.ActionGoal().header)
         GoalStatusArray = get_message_class("actionlib_msgs/GoalStatusArray")
+        self._trace, self._env, self._source = node.world.trace, node.world.env, node.name
         #: The resolved action namespace.
         self.ns = node.resolve_name(ns)
         self._ids = NodeGoalIds(node, GoalIdStyle.CLIENT)
@@ -294,15 +296,13 @@ class ActionClient:
         check_message(goal, self.types.goal, "send_goal: the goal",
                       f"build it with {self.types.goal.__name__}(...)")
         now_ns = self.node.clock.now_ns()
-        gid = self._ids.generate_id(now_ns)
-        ag = self.ActionGoal()
-        ag.header.stamp = Time.from_nsec(now_ns)
-        ag.goal_id = self._GoalID(stamp=Time.from_nsec(gid.stamp_ns), id=gid.id)
-        ag.goal = goal
-        csm = _CommStateMachine(self, ag, gid.id, transition_cb, feedback_cb, state_cb)
-        self._tracked[gid.id] = csm
-        self.node.world.record("action.client.send", self.node.name, ns=self.ns, id=gid.id,
-                               stamp=gid.stamp_ns)
+        gid_text, stamp_ns = self._ids.generate_id(now_ns)
+        ag = self.ActionGoal(header=self._Header(0, Time._from_ns(now_ns), ""),
+                             goal_id=self._GoalID(Time._from_ns(stamp_ns), gid_text), goal=goal)
+        csm = _CommStateMachine(self, ag, gid_text, transition_cb, feedback_cb, state_cb)
+        self._tracked[gid_text] = csm
+        self._trace.append_row((self._env.now_ns, "action.client.send", self._source, _SEND_KEYS,
+                                self.ns, gid_text, stamp_ns))
         self.pub_goal.publish(ag)
         return ClientGoalHandle(csm)
 
@@ -410,8 +410,8 @@ class ActionClient:
         csm = self._tracked.get(msg.status.goal_id.id)
         if csm is None:
             return None
-        self.node.world.record("action.client.result", self.node.name, ns=self.ns, id=csm.goal_id,
-                               status=_status_name(msg.status.status))
+        self._trace.append_row((self._env.now_ns, "action.client.result", self._source,
+                                _RESULT_KEYS, self.ns, csm.goal_id, _status_name(msg.status.status)))
         csm.latest_result = msg
         chain = CallbackChain()
         csm.apply(apply_comm_result(csm.state, msg.status.status), msg.status.text, chain)
@@ -421,8 +421,8 @@ class ActionClient:
         csm = self._tracked.get(msg.status.goal_id.id)
         if csm is None or csm.feedback_cb is None or csm.state == CommState.DONE:
             return None
-        self.node.world.record("action.client.feedback", self.node.name, ns=self.ns,
-                               id=csm.goal_id)
+        self._trace.append_row((self._env.now_ns, "action.client.feedback", self._source,
+                                _FEEDBACK_KEYS, self.ns, csm.goal_id))
         chain = CallbackChain()
         chain.call(csm.feedback_cb, ClientGoalHandle(csm), msg.feedback)
         return chain.rest()
@@ -462,3 +462,17 @@ class ActionClient:
 def _transition_callbacks(rest: CallbackGenerator) -> CallbackGenerator:
     """The generator transition callbacks of a ``gh.cancel()``, as one queued callback."""
     return rest
+
+
+# Defined last, so that every logging call above keeps its line: a log's file and line are in
+# the trace (and in /rosout's bytes), so moving one would change the run's digest.
+_STATUS_NAMES = tuple(s.name for s in GoalStatus)  # indexed by the status value
+_COMM_NAMES = tuple(c.name for c in CommState)  # indexed by the comm state value
+assert [s.value for s in GoalStatus] == list(range(len(_STATUS_NAMES)))
+assert [c.value for c in CommState] == list(range(len(_COMM_NAMES)))
+
+# Keys of this module's trace rows (``Trace.append_row``: the details dict is built when read).
+_SEND_KEYS = ("ns", "id", "stamp")
+_TRANSITION_KEYS = ("ns", "id", "before", "after", "status")
+_RESULT_KEYS = ("ns", "id", "status")
+_FEEDBACK_KEYS = ("ns", "id")

@@ -22,9 +22,10 @@ from enum import Enum
 from typing import NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError
-from ddes.time.rostime import Time
 
 __all__ = ["GoalIdGenerator", "GoalIdStamp", "GoalIdStyle", "check_ns"]
+
+_NS = 1_000_000_000
 
 
 def check_ns(value: int, what: str, *, instant: bool = True) -> int:
@@ -86,13 +87,14 @@ class GoalIdGenerator:
 
     def generate_id(self, now_ns: int) -> GoalIdStamp:
         """A new id stamped ``now_ns`` (int nanoseconds of ROS time)."""
-        check_ns(now_ns, "now_ns (the goal id time)")
+        if type(now_ns) is not int or now_ns < 0:
+            check_ns(now_ns, "now_ns (the goal id time)")
         self._count += 1
-        now = Time.from_nsec(now_ns)
+        secs, nsecs = divmod(now_ns, _NS)  # rospy.Time's fields
         if self.style is GoalIdStyle.SERVER:
-            text = f"{self.name}-{self._count}-{now.secs}.{now.nsecs}"
-        else:
-            text = f"{self.name}-{self._count:d}-{now.to_sec():.3f}"  # rospy: "%s-%i-%.3f"
+            text = f"{self.name}-{self._count}-{secs}.{nsecs}"
+        else:  # rospy: "%s-%i-%.3f" % (name, count, now.to_sec()), to_sec() as genpy computes it
+            text = f"{self.name}-{self._count:d}-{float(secs) + float(nsecs) / 1e9:.3f}"
         return GoalIdStamp(text, now_ns)
 
     def __repr__(self) -> str:

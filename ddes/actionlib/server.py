@@ -35,6 +35,7 @@ ignored, as in ROS, but recorded as ``action.misuse``; goal ids count per node
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 from ddes.actionlib._common import (
@@ -84,8 +85,7 @@ AUTO_START_WARNING = (
 )
 _DEPRECATED_FREQUENCY = (
     "You're using the deprecated status_frequency parameter, please switch to "
-    "actionlib_status_frequency."
-)
+    "actionlib_status_frequency.")
 
 #: ``goal_cb(gh)`` / ``cancel_cb(gh)``: a plain function, or a generator that takes time.
 GoalHandleCallback = Callable[["ServerGoalHandle"], object]
@@ -389,9 +389,9 @@ class ActionServer:
         return self.node.clock.now_ns()
 
     def _status_msg(self, t: GoalTracker) -> Message:
-        return self._GoalStatus(goal_id=self._GoalID(stamp=Time.from_nsec(t.stamp_ns),
-                                                     id=t.goal_id),
-                                status=int(t.status), text=t.text)
+        """A new ``actionlib_msgs/GoalStatus`` of ``t`` (see :meth:`_status_entry`)."""
+        return self._GoalStatus(self._GoalID(Time._from_ns(t.stamp_ns), t.goal_id), int(t.status),
+                                t.text)
 
     def _can_publish(self, what: str) -> bool:
         if self.node.is_shutdown():
@@ -424,30 +424,30 @@ class ActionServer:
         """Adopt the core's new state, sync the handles, forward its publications in order."""
         self._goals = goals
         handles = self._handles
-        live: set[int] = set()
-        for t in goals.trackers:
-            live.add(t.serial)
-            h = handles.get(t.serial)
+        trackers = goals.trackers
+        get = handles.get
+        for t in trackers:  # their serials are distinct: one per entry the core ever created
+            h = get(t.serial)
             if h is not None:
                 h._tracker = t
-        if len(live) != len(handles):
-            for serial in [s for s in handles if s not in live]:
-                del handles[serial]
+        if len(trackers) != len(handles) or len(self._entries) > 2 * len(trackers) + 16:
+            self._forget(trackers)  # handles (and status messages) of entries no longer listed
         if not pubs or self.node.is_shutdown():
             return
+        # Each message is built whole (no default fields made, then replaced); the entries of
+        # the status array are the trackers' shared GoalStatus messages (see _status_entry).
+        entry = self._status_entry
         for p in pubs:
-            stamp = Time.from_nsec(p.stamp_ns)
+            stamp = Time._from_ns(p.stamp_ns)
             if p.topic is PublicationTopic.STATUS:
-                arr = self._GoalStatusArray()
-                arr.header.stamp = stamp
-                arr.status_list = [self._status_msg(t) for t in p.statuses]
+                arr = self._GoalStatusArray(self._headers[0](0, stamp, ""),
+                                            [entry(t) for t in p.statuses])
                 assert self.status_pub is not None
                 self.status_pub.publish(arr)
             else:
-                ar = self.ActionResult()
-                ar.header.stamp = stamp
-                ar.status = self._status_msg(p.statuses[0])
-                ar.result = self.ActionResultType() if result is None else result
+                ar = self.ActionResult(
+                    header=self._headers[1](0, stamp, ""), status=entry(p.statuses[0]),
+                    result=self.ActionResultType() if result is None else result)
                 assert self.result_pub is not None
                 self.result_pub.publish(ar)
 
@@ -468,12 +468,12 @@ class ActionServer:
                           f"pass a {self.ActionResultType.__name__}() or None")
         self._can_publish(event.ros_method)
         out = apply_goal_event(self._goals, t, event, self._now_ns(), text)
-        tr = out.transition
-        gh._tracker = out.tracker
+        tr, gh._tracker = out.transition, out.tracker
         if tr.legal:
-            node.world.record("action.server.transition", node.name, ns=self.ns, id=t.goal_id,
-                              event=event.ros_method, before=tr.before.name, after=tr.after.name,
-                              text=text)
+            world = node.world
+            world.trace.append_row((world.env.now_ns, "action.server.transition", node.name,
+                                    _TRANSITION_KEYS, self.ns, t.goal_id, event.ros_method,
+                                    _STATUS_NAMES[tr.before], _STATUS_NAMES[tr.after], text))
         elif tr.error is not None:
             self._illegal(t.goal_id, tr)
         self._commit(out.goals, out.publications, result)
@@ -509,12 +509,12 @@ class ActionServer:
             node.world.record("action.misuse", node.name, ns=self.ns, level="WARN",
                               text=f"feedback for goal {t.goal_id} published after its terminal "
                                    f"state {t.status.name} (ROS publishes it too)")
-        af = self.ActionFeedback()
-        af.header.stamp = Time.from_nsec(self._now_ns())
-        af.status = self._status_msg(t)
-        af.feedback = feedback
-        node.world.record("action.server.feedback", node.name, ns=self.ns, id=t.goal_id,
-                          status=t.status.name)
+        # built whole; its status is the tracker's shared GoalStatus message (see _commit)
+        af = self.ActionFeedback(
+            header=self._headers[2](0, Time._from_ns(self._now_ns()), ""),
+            status=self._status_entry(t), feedback=feedback)
+        node.world.trace.append_row((node.world.env.now_ns, "action.server.feedback", node.name,
+                                     _FEEDBACK_KEYS, self.ns, t.goal_id, _STATUS_NAMES[t.status]))
         assert self.feedback_pub is not None
         self.feedback_pub.publish(af)
 
@@ -533,16 +533,16 @@ class ActionServer:
             return None
         out = receive_goal(self._goals, goal.goal_id.id,
                            time_to_ns(goal.goal_id.stamp, "goal stamp"), self._now_ns(), self._ids)
-        t = out.tracker
-        node.world.record("action.server.goal", node.name, ns=self.ns, id=t.goal_id,
-                          stamp=t.stamp_ns, arrival=out.arrival.value)
+        t, trace, env = out.tracker, node.world.trace, node.world.env
+        trace.append_row((env.now_ns, "action.server.goal", node.name, _GOAL_KEYS, self.ns,
+                          t.goal_id, t.stamp_ns, out.arrival.value))
         if out.arrival is GoalArrival.NEW or out.arrival is GoalArrival.CANCELED_BY_STAMP:
             gh = self._handle(t, goal)
         tr = out.transition
         if tr is not None and tr.legal:
-            node.world.record("action.server.transition", node.name, ns=self.ns, id=t.goal_id,
-                              event=tr.event.ros_method, before=tr.before.name,
-                              after=tr.after.name, text=t.text)
+            trace.append_row((env.now_ns, "action.server.transition", node.name, _TRANSITION_KEYS,
+                              self.ns, t.goal_id, tr.event.ros_method, _STATUS_NAMES[tr.before],
+                              _STATUS_NAMES[tr.after], t.text))
         elif out.arrival is GoalArrival.DUPLICATE_RECALLED:
             node.world.record("action.server.transition", node.name, ns=self.ns, id=t.goal_id,
                               event="goal_after_cancel", before=GoalStatus.RECALLING.name,
@@ -576,3 +576,47 @@ class ActionServer:
             if h is not None:
                 calls.append((self.cancel_callback, (h,)))
         return run_user_callbacks(calls)
+
+    # -- the hot path's members (here, after every logging call: a log's line is traced) ----
+    @cached_property
+    def _headers(self) -> tuple[type[Message], type[Message], type[Message]]:
+        """The header classes (std_msgs/Header) of the status array, the result, the feedback."""
+        return (type(self._GoalStatusArray().header), type(self.ActionResult().header),
+                type(self.ActionFeedback().header))
+
+    @cached_property
+    def _entries(self) -> dict[int, tuple[GoalTracker, Message]]:
+        """serial -> (tracker, its GoalStatus message), for the messages this server publishes."""
+        return {}
+
+    def _status_entry(self, t: GoalTracker) -> Message:
+        """``_status_msg(t)`` for a message this server publishes: made once per tracker (a
+        tracker never changes) and shared; a published message is only serialized."""
+        hit = self._entries.get(t.serial)
+        if hit is not None and hit[0] is t:
+            return hit[1]
+        msg = self._status_msg(t)
+        self._entries[t.serial] = (t, msg)
+        return msg
+
+    def _forget(self, trackers: tuple[GoalTracker, ...]) -> None:
+        """Drop the handles, and the cached status messages, of entries not in ``trackers``."""
+        live = {t.serial for t in trackers}
+        handles = self._handles
+        if len(live) != len(handles):
+            for serial in [s for s in handles if s not in live]:
+                del handles[serial]
+        entries = self._entries
+        if len(entries) > 2 * len(trackers) + 16:
+            self._entries = {s: e for s, e in entries.items() if s in live}
+
+
+# Defined last, so that every logging call above keeps its line: a log's file and line are in
+# the trace (and in /rosout's bytes), so moving one would change the run's digest.
+_STATUS_NAMES = tuple(s.name for s in GoalStatus)  # indexed by the status value
+assert [s.value for s in GoalStatus] == list(range(len(_STATUS_NAMES)))
+
+# Keys of this module's hot trace rows (``Trace.append_row``: the details dict is built when read).
+_GOAL_KEYS = ("ns", "id", "stamp", "arrival")
+_TRANSITION_KEYS = ("ns", "id", "event", "before", "after", "text")
+_FEEDBACK_KEYS = ("ns", "id", "status")

@@ -223,6 +223,14 @@ class ServerTransition:
 
 def server_transition(state: GoalStatus | int, event: ServerEvent | str) -> ServerTransition:
     """Apply ``event`` to a server goal in ``state`` (pure; see :data:`SERVER_TRANSITIONS`)."""
+    if type(state) is GoalStatus and type(event) is ServerEvent:
+        done = _SERVER_OUTCOMES.get((state, event))
+        if done is not None:
+            return done
+    return _server_transition(state, event)
+
+
+def _server_transition(state: GoalStatus | int, event: ServerEvent | str) -> ServerTransition:
     before = GoalStatus(_coerce(GoalStatus, state, "server goal state"))
     if isinstance(event, str) and not isinstance(event, ServerEvent):
         try:
@@ -238,6 +246,13 @@ def server_transition(state: GoalStatus | int, event: ServerEvent | str) -> Serv
         error = None if text is None else text % before.value
         return ServerTransition(before, event, before, False, error)
     return ServerTransition(before, event, target, True)
+
+
+#: Every outcome of :func:`server_transition` for a GoalStatus and a ServerEvent, worked out
+#: once by the function itself (the outcomes are immutable).
+_SERVER_OUTCOMES: Mapping[tuple[GoalStatus, ServerEvent], ServerTransition] = MappingProxyType(
+    {(s, e): _server_transition(s, e) for s in GoalStatus for e in ServerEvent}
+)
 
 
 # --- the client comm-state machine (action_client.py) ---------------------------------------
@@ -436,6 +451,15 @@ def apply_comm_status(state: CommState | int, status: GoalStatus | int | None) -
     * otherwise the latest status is updated and the table cell applied:
       a sequence of states, no transition, or an invalid transition (logged).
     """
+    if type(state) is CommState and (status is None or type(status) is int
+                                     or type(status) is GoalStatus):
+        done = _COMM_STATUS_UPDATES.get((state, status))
+        if done is not None:
+            return done
+    return _apply_comm_status(state, status)
+
+
+def _apply_comm_status(state: CommState | int, status: GoalStatus | int | None) -> CommUpdate:
     before = CommState(_coerce(CommState, state, "comm state"))
     if before is CommState.DONE:
         return CommUpdate(before, before)
@@ -476,6 +500,14 @@ def apply_comm_result(state: CommState | int, status: GoalStatus | int) -> CommU
     the LOST rule).  A result while already DONE only logs an error.  The
     latest status becomes the result's status in every case, as in ROS.
     """
+    if type(state) is CommState and (type(status) is int or type(status) is GoalStatus):
+        done = _COMM_RESULT_UPDATES.get((state, status))
+        if done is not None:
+            return done
+    return _apply_comm_result(state, status)
+
+
+def _apply_comm_result(state: CommState | int, status: GoalStatus | int) -> CommUpdate:
     before = CommState(_coerce(CommState, state, "comm state"))
     wire = _wire_status(status)
     if before is CommState.DONE:
@@ -487,7 +519,7 @@ def apply_comm_result(state: CommState | int, status: GoalStatus | int) -> CommU
         return CommUpdate(
             before, before, latest_status=wire, errors=(f"In a funny state: {before.value}",)
         )
-    fed = apply_comm_status(before, wire)
+    fed = _apply_comm_status(before, wire)
     return CommUpdate(
         before, CommState.DONE, fed.passed + (CommState.DONE,), wire, fed.errors
     )
@@ -499,6 +531,17 @@ def apply_comm_cancel(state: CommState | int) -> CommUpdate:
     before = CommState(_coerce(CommState, state, "comm state"))
     target = CommState.WAITING_FOR_CANCEL_ACK
     return CommUpdate(before, target, (target,))
+
+
+#: Every outcome of :func:`apply_comm_status` and :func:`apply_comm_result` for a CommState
+#: and a status of the table (or None: missing from the array), worked out once by the
+#: functions themselves (the updates are immutable), so the hot path is one lookup.
+_COMM_STATUS_UPDATES: Mapping[tuple[CommState, int | None], CommUpdate] = MappingProxyType(
+    {(c, s): _apply_comm_status(c, s) for c in CommState for s in (None, *GoalStatus)}
+)
+_COMM_RESULT_UPDATES: Mapping[tuple[CommState, int], CommUpdate] = MappingProxyType(
+    {(c, s): _apply_comm_result(c, s) for c in CommState for s in GoalStatus}
+)
 
 
 # --- SimpleActionClient (simple_action_client.py) ---------------------------------------------

@@ -46,6 +46,7 @@ __all__ = [
 ]
 
 _NS = 1_000_000_000
+_new = object.__new__
 
 _T = TypeVar("_T", bound="TVal")
 #: The other kind of a time class: the span of a point (Duration of Time), the point of a span.
@@ -84,6 +85,14 @@ class TVal:
     _kind: ClassVar[str] = "TVal"
 
     def __init__(self, secs: float = 0, nsecs: int = 0) -> None:
+        if type(secs) is int and type(nsecs) is int:  # the common case, without ABC checks
+            if 0 <= nsecs < _NS:
+                self.secs = secs
+                self.nsecs = nsecs
+            else:
+                carry, self.nsecs = divmod(nsecs, _NS)
+                self.secs = secs + carry
+            return
         if isinstance(secs, numbers.Integral) and not isinstance(secs, bool):
             whole = int(secs)
             if not isinstance(nsecs, numbers.Integral) or isinstance(nsecs, bool):
@@ -113,7 +122,8 @@ class TVal:
     @classmethod
     def from_nsec(cls: type[_T], nsec: int) -> _T:
         """Build from an integer number of nanoseconds (exact)."""
-        if not isinstance(nsec, numbers.Integral) or isinstance(nsec, bool):
+        if type(nsec) is not int and (
+                not isinstance(nsec, numbers.Integral) or isinstance(nsec, bool)):
             raise DdesTypeError(f"nanoseconds must be an int, got {nsec!r}")
         secs, nsecs = divmod(int(nsec), _NS)
         return cls(secs, nsecs)
@@ -121,7 +131,7 @@ class TVal:
     @classmethod
     def _from_ns(cls: type[_T], ns: int) -> _T:
         """Fast internal constructor from canonical integer nanoseconds."""
-        obj = cls.__new__(cls)
+        obj = _new(cls)
         obj.secs, obj.nsecs = divmod(ns, _NS)
         return obj
 
@@ -211,6 +221,10 @@ class _TimeBase(TVal, Generic[_K]):
     _duration: ClassVar[type[TVal]]  # the class of _K
 
     def __init__(self, secs: float = 0, nsecs: int = 0) -> None:
+        if type(secs) is int and type(nsecs) is int and secs >= 0 and 0 <= nsecs < _NS:
+            self.secs = secs  # the common case: already canonical and not negative
+            self.nsecs = nsecs
+            return
         super().__init__(secs, nsecs)
         if self.secs < 0:
             raise DdesTypeError(
@@ -234,7 +248,7 @@ class _TimeBase(TVal, Generic[_K]):
                 f"time values must be positive (got {ns} ns); the result of this "
                 "arithmetic would be before time zero"
             )
-        obj = cls.__new__(cls)
+        obj = _new(cls)
         obj.secs, obj.nsecs = divmod(ns, _NS)
         return obj
 
