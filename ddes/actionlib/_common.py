@@ -204,6 +204,10 @@ def run_user_callbacks(calls: Iterable[UserCall]) -> CallbackGenerator | None:
     that runs the generator callbacks one after the other (the node runs it
     as the rest of the current callback, so it takes simulated time).
     """
+    if type(calls) is list and len(calls) == 1:  # one call (the hot path): no chain
+        fn, args = calls[0]
+        result = None if fn is None else fn(*args)
+        return _chain([result]) if type(result) is GeneratorType else None
     chain = CallbackChain()
     for fn, args in calls:
         chain.call(fn, *args)

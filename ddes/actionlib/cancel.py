@@ -288,11 +288,11 @@ class _Book:
         self.boxes = kept
         entries = tuple([box[0] for box in kept])
         self.publications.append(_made(Publication, {
-            "topic": PublicationTopic.STATUS, "stamp_ns": now_ns, "statuses": entries}))
+            "topic": _STATUS_TOPIC, "stamp_ns": now_ns, "statuses": entries}))
 
     def publish_result(self, tracker: GoalTracker) -> None:
         self.publications.append(_made(Publication, {
-            "topic": PublicationTopic.RESULT, "stamp_ns": self.now_ns, "statuses": (tracker,)}))
+            "topic": _RESULT_TOPIC, "stamp_ns": self.now_ns, "statuses": (tracker,)}))
         self.publish_status()
 
     def goals(self, template: ServerGoals) -> ServerGoals:
@@ -354,7 +354,7 @@ class GoalOutcome:
     @property
     def call_goal_callback(self) -> bool:
         """True iff the user's goal callback must run (only for a NEW goal)."""
-        return self.arrival is GoalArrival.NEW
+        return self.arrival is _NEW
 
 
 @dataclass(frozen=True)
@@ -450,14 +450,14 @@ def receive_goal(
     if goal_id == "":  # a generator's id: checked by GoalTracker
         box = [GoalTracker(tracked_id, tracked_stamp, GoalStatus.PENDING, serial=book.serial())]
     else:
-        box = [_tracker(tracked_id, tracked_stamp, GoalStatus.PENDING, book.serial())]
+        box = [_tracker(tracked_id, tracked_stamp, _PENDING, book.serial())]
     book.boxes.append(box)
     if tested_stamp != 0 and tested_stamp <= book.last_cancel_ns:
         tr = book.apply(box, ServerEvent.CANCEL, CANCELED_BY_STAMP_TEXT)
         return GoalOutcome(
             book.goals(goals), GoalArrival.CANCELED_BY_STAMP, box[0], tuple(book.publications), tr
         )
-    return _made(GoalOutcome, {"goals": book.goals(goals), "arrival": GoalArrival.NEW,
+    return _made(GoalOutcome, {"goals": book.goals(goals), "arrival": _NEW,
                                "tracker": box[0], "publications": (), "transition": None,
                                "errors": ()})
 
@@ -528,6 +528,10 @@ def apply_goal_event(
         except ValueError:
             names = ", ".join(e.value for e in ServerEvent)
             raise DdesValueError(f"unknown server goal event {event!r}; use one of: {names}") from None
+    if type(goal) is GoalTracker and type(event) is ServerEvent and goal.has_goal:
+        fast = _apply_to_tracker(goals, goal, event, now_ns, text)
+        if fast is not None:
+            return fast
     book = _Book(goals, now_ns)
     if isinstance(goal, GoalTracker):
         serial = goal.serial
@@ -553,8 +557,64 @@ def apply_goal_event(
                                 "errors": tuple(book.errors)})
 
 
+def _apply_to_tracker(goals: ServerGoals, goal: GoalTracker, event: ServerEvent, now_ns: int,
+                      text: str) -> EventOutcome | None:
+    """:func:`apply_goal_event` on a tracker, for the hot path: what ``_Book.apply`` does,
+    without a working copy of the list (None: a placeholder entry, left to the general path).
+
+    The entry acted on is the list's entry with the tracker's serial, else the tracker itself
+    (pruned: it is updated, its result published, the array published without it)."""
+    trackers = goals.trackers
+    serial = goal.serial
+    index = -1
+    for i in range(len(trackers)):
+        if trackers[i].serial == serial:
+            index = i
+            break
+    t = trackers[index] if index >= 0 else goal
+    if not t.has_goal:
+        return None
+    tr = server_transition(t.status, event)
+    if not tr.legal:
+        return _made(EventOutcome, {
+            "goals": _made(ServerGoals, {**goals.__dict__}), "transition": tr, "tracker": t,
+            "publications": (), "errors": () if tr.error is None else (tr.error,)})
+    after = tr.after
+    pubs: list[Publication] = []
+    if event is _CANCEL_REQUEST:
+        new = _evolve(t, {"status": after})
+    elif after in TERMINAL_STATUSES:
+        new = _evolve(t, {"status": after, "text": text, "destruction_time_ns": now_ns})
+        pubs.append(_made(Publication, {
+            "topic": _RESULT_TOPIC, "stamp_ns": now_ns, "statuses": (new,)}))
+    else:
+        new = _evolve(t, {"status": after, "text": text})
+    timeout_ns = goals.status_list_timeout_ns
+    kept = []
+    for i in range(len(trackers)):  # the new entry in its place, then ROS's pruning
+        x = new if i == index else trackers[i]
+        d = x.destruction_time_ns
+        if d == 0 or d + timeout_ns >= now_ns:
+            kept.append(x)
+    entries = tuple(kept)
+    pubs.append(_made(Publication, {
+        "topic": _STATUS_TOPIC, "stamp_ns": now_ns, "statuses": entries}))
+    return _made(EventOutcome, {
+        "goals": _made(ServerGoals, {
+            "trackers": entries, "last_cancel_ns": goals.last_cancel_ns,
+            "status_list_timeout_ns": timeout_ns, "created": goals.created}),
+        "transition": tr, "tracker": new, "publications": tuple(pubs), "errors": ()})
+
+
 def publish_status(goals: ServerGoals, now_ns: int) -> StatusOutcome:
     """The status array at ``now_ns`` (``ActionServer.publish_status``), pruning expired entries."""
     book = _Book(goals, check_ns(now_ns, "now_ns"))
     book.publish_status()
     return StatusOutcome(book.goals(goals), book.publications[0], tuple(book.removed))
+
+
+# Enum members as plain globals for the hot paths (a member read through its class is slower).
+_STATUS_TOPIC, _RESULT_TOPIC = PublicationTopic.STATUS, PublicationTopic.RESULT
+_CANCEL_REQUEST = ServerEvent.CANCEL_REQUEST
+_PENDING = GoalStatus.PENDING
+_NEW = GoalArrival.NEW

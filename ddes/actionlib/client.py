@@ -86,7 +86,7 @@ _TERMINAL_OR_LOST = frozenset({GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED, GoalS
 
 
 def _status_name(status: int) -> str:
-    return _STATUS_NAMES[status] if 0 <= status <= GoalStatus.LOST else str(status)
+    return _STATUS_NAMES[status] if 0 <= status <= _LOST else str(status)
 
 
 class _CommStateMachine:
@@ -102,8 +102,8 @@ class _CommStateMachine:
         self.client = client
         self.action_goal = action_goal
         self.goal_id = goal_id
-        self.state = CommState.WAITING_FOR_GOAL_ACK
-        self.status: int = GoalStatus.PENDING
+        self.state = _WAITING_FOR_GOAL_ACK
+        self.status: int = _PENDING
         self.text = ""
         #: The ``FooActionResult`` once received.
         self.latest_result: Message | None = None
@@ -397,7 +397,7 @@ class ActionClient:
             entries.setdefault(st.goal_id.id, st)
         chain = CallbackChain()
         for csm in list(self._tracked.values()):
-            if csm.state == CommState.DONE:
+            if csm.state == _DONE:
                 continue
             st = entries.get(csm.goal_id)
             if st is None:
@@ -419,7 +419,7 @@ class ActionClient:
 
     def _feedback_cb(self, msg: Message) -> CallbackGenerator | None:
         csm = self._tracked.get(msg.status.goal_id.id)
-        if csm is None or csm.feedback_cb is None or csm.state == CommState.DONE:
+        if csm is None or csm.feedback_cb is None or csm.state == _DONE:
             return None
         self._trace.append_row((self._env.now_ns, "action.client.feedback", self._source,
                                 _FEEDBACK_KEYS, self.ns, csm.goal_id))
@@ -476,3 +476,7 @@ _SEND_KEYS = ("ns", "id", "stamp")
 _TRANSITION_KEYS = ("ns", "id", "before", "after", "status")
 _RESULT_KEYS = ("ns", "id", "status")
 _FEEDBACK_KEYS = ("ns", "id")
+
+# Enum members as plain globals for the hot lines (a member read through its class is slower).
+_WAITING_FOR_GOAL_ACK, _DONE = CommState.WAITING_FOR_GOAL_ACK, CommState.DONE
+_PENDING, _LOST = GoalStatus.PENDING, GoalStatus.LOST

@@ -91,7 +91,7 @@ class GoalIdGenerator:
             check_ns(now_ns, "now_ns (the goal id time)")
         self._count += 1
         secs, nsecs = divmod(now_ns, _NS)  # rospy.Time's fields
-        if self.style is GoalIdStyle.SERVER:
+        if self.style is _SERVER:
             text = f"{self.name}-{self._count}-{secs}.{nsecs}"
         else:  # rospy: "%s-%i-%.3f" % (name, count, now.to_sec()), to_sec() as genpy computes it
             text = f"{self.name}-{self._count:d}-{float(secs) + float(nsecs) / 1e9:.3f}"
@@ -99,3 +99,6 @@ class GoalIdGenerator:
 
     def __repr__(self) -> str:
         return f"GoalIdGenerator({self.name!r}, style={self.style.value!r}, count={self._count})"
+
+
+_SERVER = GoalIdStyle.SERVER  # a plain global for the hot path

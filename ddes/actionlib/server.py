@@ -151,27 +151,27 @@ class ServerGoalHandle:
     # -- transitions ----------------------------------------------------------------------
     def set_accepted(self, text: str = "") -> ServerTransition | None:
         """PENDING → ACTIVE or RECALLING → PREEMPTING."""
-        return self._server._event(self, ServerEvent.ACCEPT, None, text)
+        return self._server._event(self, _ACCEPT, None, text)
 
     def set_rejected(self, result: Message | None = None,
                      text: str = "") -> ServerTransition | None:
         """PENDING or RECALLING → REJECTED (publishes the result)."""
-        return self._server._event(self, ServerEvent.REJECT, result, text)
+        return self._server._event(self, _REJECT, result, text)
 
     def set_canceled(self, result: Message | None = None,
                      text: str = "") -> ServerTransition | None:
         """PENDING/RECALLING → RECALLED, ACTIVE/PREEMPTING → PREEMPTED (publishes the result)."""
-        return self._server._event(self, ServerEvent.CANCEL, result, text)
+        return self._server._event(self, _CANCEL, result, text)
 
     def set_succeeded(self, result: Message | None = None,
                       text: str = "") -> ServerTransition | None:
         """ACTIVE or PREEMPTING → SUCCEEDED (publishes the result)."""
-        return self._server._event(self, ServerEvent.SUCCEED, result, text)
+        return self._server._event(self, _SUCCEED, result, text)
 
     def set_aborted(self, result: Message | None = None,
                     text: str = "") -> ServerTransition | None:
         """ACTIVE or PREEMPTING → ABORTED (publishes the result)."""
-        return self._server._event(self, ServerEvent.ABORT, result, text)
+        return self._server._event(self, _ABORT, result, text)
 
     def set_cancel_requested(self) -> bool:
         """PENDING → RECALLING or ACTIVE → PREEMPTING; True iff it moved (ROS's private helper)."""
@@ -439,7 +439,7 @@ class ActionServer:
         entry = self._status_entry
         for p in pubs:
             stamp = Time._from_ns(p.stamp_ns)
-            if p.topic is PublicationTopic.STATUS:
+            if p.topic is _STATUS_TOPIC:
                 arr = self._GoalStatusArray(self._headers[0](0, stamp, ""),
                                             [entry(t) for t in p.statuses])
                 assert self.status_pub is not None
@@ -463,7 +463,7 @@ class ActionServer:
             return None
         if not isinstance(text, str):
             raise DdesTypeError(f"{event.ros_method}: text must be a str, got {text!r}")
-        if result is not None:
+        if result is not None and type(result) is not self.ActionResultType:  # else it is one
             check_message(result, self.ActionResultType, f"{event.ros_method}: the result",
                           f"pass a {self.ActionResultType.__name__}() or None")
         self._can_publish(event.ros_method)
@@ -501,16 +501,16 @@ class ActionServer:
             self._uninitialized_debug_line(gh)
             misuse(node, self.ns, "Attempt to publish feedback on an uninitialized ServerGoalHandle")
             return
-        check_message(feedback, self.types.feedback, "publish_feedback: the feedback",
-                      f"pass a {self.types.feedback.__name__}()")
+        if type(feedback) is not self.types.feedback:  # (an instance of the class passes)
+            check_message(feedback, self.types.feedback, "publish_feedback: the feedback",
+                          f"pass a {self.types.feedback.__name__}()")
         if not self._can_publish("publish feedback"):
             return
         if t.status in TERMINAL_STATUSES:
             node.world.record("action.misuse", node.name, ns=self.ns, level="WARN",
                               text=f"feedback for goal {t.goal_id} published after its terminal "
                                    f"state {t.status.name} (ROS publishes it too)")
-        # built whole; its status is the tracker's shared GoalStatus message (see _commit)
-        af = self.ActionFeedback(
+        af = self.ActionFeedback(  # built whole, its status the tracker's shared GoalStatus
             header=self._headers[2](0, Time._from_ns(self._now_ns()), ""),
             status=self._status_entry(t), feedback=feedback)
         node.world.trace.append_row((node.world.env.now_ns, "action.server.feedback", node.name,
@@ -536,7 +536,7 @@ class ActionServer:
         t, trace, env = out.tracker, node.world.trace, node.world.env
         trace.append_row((env.now_ns, "action.server.goal", node.name, _GOAL_KEYS, self.ns,
                           t.goal_id, t.stamp_ns, out.arrival.value))
-        if out.arrival is GoalArrival.NEW or out.arrival is GoalArrival.CANCELED_BY_STAMP:
+        if out.arrival is _NEW or out.arrival is _CANCELED_BY_STAMP:
             gh = self._handle(t, goal)
         tr = out.transition
         if tr is not None and tr.legal:
@@ -620,3 +620,9 @@ assert [s.value for s in GoalStatus] == list(range(len(_STATUS_NAMES)))
 _GOAL_KEYS = ("ns", "id", "stamp", "arrival")
 _TRANSITION_KEYS = ("ns", "id", "event", "before", "after", "text")
 _FEEDBACK_KEYS = ("ns", "id", "status")
+
+# Enum members as plain globals for the hot lines (a member read through its class is slower).
+_ACCEPT, _REJECT, _CANCEL = ServerEvent.ACCEPT, ServerEvent.REJECT, ServerEvent.CANCEL
+_SUCCEED, _ABORT = ServerEvent.SUCCEED, ServerEvent.ABORT
+_STATUS_TOPIC = PublicationTopic.STATUS
+_NEW, _CANCELED_BY_STAMP = GoalArrival.NEW, GoalArrival.CANCELED_BY_STAMP
