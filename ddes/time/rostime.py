@@ -46,7 +46,6 @@ __all__ = [
 ]
 
 _NS = 1_000_000_000
-_new = object.__new__
 
 _T = TypeVar("_T", bound="TVal")
 #: The other kind of a time class: the span of a point (Duration of Time), the point of a span.
@@ -131,7 +130,7 @@ class TVal:
     @classmethod
     def _from_ns(cls: type[_T], ns: int) -> _T:
         """Fast internal constructor from canonical integer nanoseconds."""
-        obj = _new(cls)
+        obj = cls.__new__(cls)
         obj.secs, obj.nsecs = divmod(ns, _NS)
         return obj
 
@@ -248,7 +247,7 @@ class _TimeBase(TVal, Generic[_K]):
                 f"time values must be positive (got {ns} ns); the result of this "
                 "arithmetic would be before time zero"
             )
-        obj = _new(cls)
+        obj = cls.__new__(cls)
         obj.secs, obj.nsecs = divmod(ns, _NS)
         return obj
 
