@@ -170,8 +170,8 @@ os.makedirs(_msg_out)
 _files = sorted(os.path.join(MSGS, f) for f in os.listdir(MSGS))
 MsgGenerator().generate_messages("actionlib_tutorials", _files, _msg_out,
                                  {"actionlib_tutorials": [MSGS],
-                                  "actionlib_msgs": ["/usr/share/actionlib_msgs/msg"],
-                                  "std_msgs": ["/usr/share/std_msgs/msg"]})
+                                  "actionlib_msgs": [DEPS + "/actionlib_msgs"],
+                                  "std_msgs": [DEPS + "/std_msgs"]})
 open(os.path.join(_gen, "actionlib_tutorials", "__init__.py"), "w").close()
 with open(os.path.join(_msg_out, "__init__.py"), "w") as f:
     for name in sorted(os.listdir(MSGS)):
@@ -195,8 +195,16 @@ def test_the_fibonacci_action_scripts_agree(ros_python: Callable[..., Any],
     for full in registry.list_types("actionlib_tutorials", "msg"):
         if full.split("/")[1].startswith("Fibonacci"):
             (msgs / (full.split("/")[1] + ".msg")).write_text(registry.get_msg_spec(full).text)
+    # genpy reads the definitions the action messages depend on from these folders, written
+    # from ddes's registry (the same text and md5 as upstream's): Debian's definition files
+    # (ros-actionlib-msgs, ros-std-msgs) need not be installed, only their Python modules.
+    deps = tmp_path / "deps"
+    for full in ("actionlib_msgs/GoalID", "actionlib_msgs/GoalStatus", "std_msgs/Header"):
+        package, name = full.split("/")
+        (deps / package).mkdir(parents=True, exist_ok=True)
+        (deps / package / f"{name}.msg").write_text(registry.get_msg_spec(full).text)
     al = SCRIPTS.parents[1] / "actionlib_tutorials" / "scripts"
-    head = f"AL = {str(al)!r}\nMSGS = {str(msgs)!r}\n"
+    head = f"AL = {str(al)!r}\nMSGS = {str(msgs)!r}\nDEPS = {str(deps)!r}\n"
     theirs = _reference(ros_python, head + FIBONACCI)
 
     lines: list[str] = []
