@@ -605,9 +605,8 @@ class Bag:
         """
         if self._closed or self._mode == "r":
             self._check_writable()
-        if type(topic) is not str or not topic:
-            if not topic or not isinstance(topic, str):
-                raise DdesValueError(f"topic is invalid: {topic!r}")
+        if not topic or not isinstance(topic, str):
+            raise DdesValueError(f"topic is invalid: {topic!r}")
         if msg is None:
             raise DdesValueError("msg is invalid: None")
         if type(t) is Time and t.secs < 4294967296:
@@ -617,7 +616,7 @@ class Bag:
         else:
             ns = _stamp_ns(self._now() if t is None else t, "t")
         if raw and type(msg) is tuple and 4 <= len(msg) <= 5:
-            # the common raw case, on a known topic: rosbag's checks, then _append inline
+            # the common raw case, on a known topic: rosbag's checks, then _append
             data = msg[1]
             if type(data) is not bytes:
                 if not isinstance(data, (bytes, bytearray, memoryview)):
@@ -626,15 +625,7 @@ class Bag:
                 data = bytes(data)
             cid = self._topic_connections.get(topic)
             if cid is not None:
-                entry = (ns, cid, data)
-                self._log.append(entry)
-                index = self._indexes[cid]
-                if not index or ns >= index[-1][0]:
-                    index.append(entry)
-                else:
-                    bisect.insort_right(index, entry, key=_time_key)
-                if self._loaded is not None or self._encoded is not None:
-                    self._modified()
+                self._append(cid, ns, data)
                 return
         if isinstance(msg, AnyMsg):
             data = bytes(msg._buff)

@@ -85,14 +85,8 @@ class TVal:
 
     def __init__(self, secs: float = 0, nsecs: int = 0) -> None:
         if type(secs) is int and type(nsecs) is int:  # the common case, without ABC checks
-            if 0 <= nsecs < _NS:
-                self.secs = secs
-                self.nsecs = nsecs
-            else:
-                carry, self.nsecs = divmod(nsecs, _NS)
-                self.secs = secs + carry
-            return
-        if isinstance(secs, numbers.Integral) and not isinstance(secs, bool):
+            whole = secs
+        elif isinstance(secs, numbers.Integral) and not isinstance(secs, bool):
             whole = int(secs)
             if not isinstance(nsecs, numbers.Integral) or isinstance(nsecs, bool):
                 raise DdesTypeError(
@@ -107,8 +101,11 @@ class TVal:
                     f"{type(self).__name__}(int_secs, nsecs)"
                 )
             whole, nsecs = _split_float(secs)
-        carry, nsecs = divmod(nsecs, _NS)
-        self.secs = whole + carry
+        if 0 <= nsecs < _NS:
+            self.secs = whole
+        else:
+            carry, nsecs = divmod(nsecs, _NS)
+            self.secs = whole + carry
         self.nsecs = nsecs
 
     # -- construction -----------------------------------------------------
