@@ -204,36 +204,15 @@ class _ChunkWriter:
         message) until the chunk holds more than ``threshold`` bytes; False once ``it``
         is exhausted."""
         buf = self.buf
-        index = self.index
-        start, end = self.start, self.end
-        pack = _MSG_HEAD.pack
-        try:
-            for t, cid, data in it:
-                if cid not in seen:
-                    seen.add(cid)
-                    buf += _connection_record(connections[cid])
-                offset = len(buf)
-                secs, nsecs = divmod(t, _NS)
-                buf += pack(_MSG_PREFIX, cid, _TIME_FIELD, secs, nsecs, len(data))
-                buf += data
-                entries = index.get(cid)
-                if entries is None:
-                    index[cid] = [t, secs, nsecs, offset]
-                else:
-                    if t >= entries[0]:
-                        entries[0] = t
-                    else:
-                        self.unsorted.add(cid)
-                    entries += (secs, nsecs, offset)
-                if t > end:
-                    end = t
-                elif t < start:
-                    start = t
-                if len(buf) > threshold:
-                    return True
-            return False
-        finally:
-            self.start, self.end = start, end
+        add = self.add
+        for t, cid, data in it:
+            if cid not in seen:
+                seen.add(cid)
+                buf += _connection_record(connections[cid])
+            add(t, cid, data)
+            if len(buf) > threshold:
+                return True
+        return False
 
     def counts(self) -> dict[int, int]:
         """Messages per connection, in first-message order."""
