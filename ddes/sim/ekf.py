@@ -24,8 +24,10 @@ Times are integer nanoseconds; ``delta`` is ``(t - last) / 1e9``.
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from ddes.errors import DdesValueError
 from ddes.sim._trig import sincos
@@ -51,7 +53,10 @@ _TAU = 2.0 * math.pi
 
 
 def wrap(a: float) -> float:
-    """robot_localization's ``clampRotation``: into [-π, π] by whole turns."""
+    """robot_localization's ``clampRotation``: into [-π, π] by whole turns (an infinite or NaN
+    angle is returned as it is: whole turns never bring it into range)."""
+    if not -math.inf < a < math.inf:
+        return a
     while a > math.pi:
         a -= _TAU
     while a < -math.pi:
@@ -154,35 +159,7 @@ class PlanarEkf:
         jxy = (-s * vx - c * vy) * delta + (-s * ax - c * ay) * half
         jyy = (c * vx - s * vy) * delta + (c * ax - s * ay) * half
         cd, sd, ch, sh = c * delta, s * delta, c * half, s * half
-        p = self.P
-        p0, p1, p2, p3, p4, p5, p6, p7 = p
-        jp = [
-            [a + jxy * b + cd * c_ - sd * d + ch * e - sh * f
-             for a, b, c_, d, e, f in zip(p0, p2, p3, p4, p6, p7)],
-            [a + jyy * b + sd * c_ + cd * d + sh * e + ch * f
-             for a, b, c_, d, e, f in zip(p1, p2, p3, p4, p6, p7)],
-            [a + delta * b for a, b in zip(p2, p5)],
-            [a + delta * b for a, b in zip(p3, p6)],
-            [a + delta * b for a, b in zip(p4, p7)],
-            list(p5), list(p6), list(p7),
-        ]
-        q = self.q
-        out = []
-        for i in range(N):
-            r = jp[i]
-            r0, r1, r2, r3, r4, r5, r6, r7 = r
-            qi = q[i]
-            out.append([
-                r0 + jxy * r2 + cd * r3 - sd * r4 + ch * r6 - sh * r7 + delta * qi[0],
-                r1 + jyy * r2 + sd * r3 + cd * r4 + sh * r6 + ch * r7 + delta * qi[1],
-                r2 + delta * r5 + delta * qi[2],
-                r3 + delta * r6 + delta * qi[3],
-                r4 + delta * r7 + delta * qi[4],
-                r5 + delta * qi[5],
-                r6 + delta * qi[6],
-                r7 + delta * qi[7],
-            ])
-        self.P = out
+        self.P = _predict_covariance(self.P, self.q, jxy, jyy, cd, sd, ch, sh, delta)
 
     # -- Ekf::correct --------------------------------------------------------------------------
     def correct(self, z: dict[int, float], cov: dict[tuple[int, int], float],
@@ -205,32 +182,117 @@ class PlanarEkf:
         pht = [[p[i][j] for j in idx] for i in range(N)]  # P Hᵀ (8×m)
         s = [[pht[i][b] + r[a][b] for b in range(m)] for a, i in enumerate(idx)]
         s_inv = _solve_inverse(s)
-        if threshold < math.inf:  # FilterBase::checkMahalanobisThreshold
-            sy = [sum(s_inv[a][b] * y[b] for b in range(m)) for a in range(m)]
-            if sum(y[a] * sy[a] for a in range(m)) >= threshold * threshold:
-                return False
+        # Every sum below adds left to right from 0.0 (what sum() did up to Python 3.11; from
+        # 3.12 sum() compensates float rounding, which would change the filter's last bits).
         rng_m = range(m)
-        k_gain = [[sum(row[c] * s_inv[c][b] for c in rng_m) for b in rng_m] for row in pht]
-        for i in range(N):
-            ki = k_gain[i]
-            x[i] += sum(ki[b] * y[b] for b in rng_m)
-        # Joseph form (I - K H) P (I - K H)ᵀ + K R Kᵀ, expanded with H a selection:
-        # P - K (H P) - (P Hᵀ) Kᵀ + K (H P Hᵀ + R) Kᵀ
-        #   = P - Σ_b K[:, b] ⊗ PHᵀ[:, b] - Σ_b U[:, b] ⊗ K[:, b],  U = P Hᵀ - K S
-        ks = [[sum(ki[c] * s[c][b] for c in rng_m) for b in rng_m] for ki in k_gain]
-        cols_k = [[k_gain[j][b] for j in range(N)] for b in rng_m]
-        cols_ph = [[pht[j][b] for j in range(N)] for b in rng_m]
-        new = []
-        for i in range(N):
-            row = p[i]
-            ki, phi, ksi = k_gain[i], pht[i], ks[i]
-            for b in rng_m:
-                a, u = ki[b], phi[b] - ksi[b]
-                row = [r - a * h - u * k for r, h, k in zip(row, cols_ph[b], cols_k[b])]
-            new.append(row if m else list(row))
+        if threshold < math.inf:  # FilterBase::checkMahalanobisThreshold
+            d2 = 0.0
+            for a in rng_m:
+                sya = 0.0
+                for sab, yb in zip(s_inv[a], y):
+                    sya += sab * yb
+                d2 += y[a] * sya
+            if d2 >= threshold * threshold:
+                return False
+        new = _gain_update(m)(p, pht, s, s_inv, y, x)
         self.P = new
         x[_YAW] = wrap(x[_YAW])
         return True
+
+
+def _make_predict_covariance() -> Callable[..., list[list[float]]]:
+    """``P' = J P Jᵀ + delta·Q`` of :meth:`PlanarEkf.predict` as one straight-line function of
+    scalars: ``f(P, Q, jxy, jyy, cd, sd, ch, sh, delta)``.  Each entry is the expression of the
+    row-wise loops it replaces, term for term in the same order (``JP = J P`` first, then
+    ``JP Jᵀ + delta·Q``), so the results are the same floats."""
+    rows = range(N)
+    lines = ["def predict_covariance(p, q, jxy, jyy, cd, sd, ch, sh, delta):"]
+    for i in rows:
+        lines.append(f"    {', '.join(f'p{i}_{k}' for k in rows)} = p[{i}]")
+        lines.append(f"    {', '.join(f'q{i}_{k}' for k in rows)} = q[{i}]")
+    for k in rows:  # JP = J P: rows 0-4 of J differ from the identity
+        lines.append(f"    a0_{k} = p0_{k} + jxy * p2_{k} + cd * p3_{k} - sd * p4_{k} + ch * p6_{k}"
+                     f" - sh * p7_{k}")
+        lines.append(f"    a1_{k} = p1_{k} + jyy * p2_{k} + sd * p3_{k} + cd * p4_{k} + sh * p6_{k}"
+                     f" + ch * p7_{k}")
+        lines.append(f"    a2_{k} = p2_{k} + delta * p5_{k}")
+        lines.append(f"    a3_{k} = p3_{k} + delta * p6_{k}")
+        lines.append(f"    a4_{k} = p4_{k} + delta * p7_{k}")
+        lines += [f"    a{i}_{k} = p{i}_{k}" for i in (5, 6, 7)]
+    out = []
+    for i in rows:  # (JP) Jᵀ + delta·Q
+        r = [f"a{i}_{k}" for k in rows]
+        entries = [
+            f"{r[0]} + jxy * {r[2]} + cd * {r[3]} - sd * {r[4]} + ch * {r[6]} - sh * {r[7]}"
+            f" + delta * q{i}_0",
+            f"{r[1]} + jyy * {r[2]} + sd * {r[3]} + cd * {r[4]} + sh * {r[6]} + ch * {r[7]}"
+            f" + delta * q{i}_1",
+            f"{r[2]} + delta * {r[5]} + delta * q{i}_2",
+            f"{r[3]} + delta * {r[6]} + delta * q{i}_3",
+            f"{r[4]} + delta * {r[7]} + delta * q{i}_4",
+            f"{r[5]} + delta * q{i}_5",
+            f"{r[6]} + delta * q{i}_6",
+            f"{r[7]} + delta * q{i}_7",
+        ]
+        out.append("[" + ", ".join(entries) + "]")
+    lines.append(f"    return [{', '.join(out)}]")
+    space: dict[str, Any] = {}
+    exec(compile("\n".join(lines) + "\n", "<ddes.sim.ekf predict>", "exec"), space)  # noqa: S102 - generated from constants
+    fn: Callable[..., list[list[float]]] = space["predict_covariance"]
+    return fn
+
+
+_predict_covariance = _make_predict_covariance()
+
+
+@functools.cache
+def _gain_update(m: int) -> Callable[..., list[list[float]]]:
+    """The gain and update of :meth:`PlanarEkf.correct` for ``m`` measured states, as one
+    straight-line function of scalars (generated from ``m`` alone): ``f(P, PHᵀ, S, S⁻¹, y, x)``
+    adds ``K y`` to ``x`` in place and returns the Joseph-form ``P``, with ``K = PHᵀ S⁻¹``.
+
+    Every product and sum is the one of the plain loops it replaces, in the same order: each
+    sum starts at 0.0 and adds left to right (what ``sum()`` did up to Python 3.11; from 3.12
+    ``sum()`` compensates float rounding, which would change the filter's last bits), and each
+    covariance entry is ``P[i][j] - K[i][b]·PHᵀ[j][b] - U[i][b]·K[j][b]`` for b = 0 … m-1 in
+    turn, with ``U = PHᵀ - K S``.
+    """
+    rows, cols = range(N), range(m)
+
+    def total(terms: list[str]) -> str:
+        return "0.0 + " + " + ".join(terms)
+
+    lines = ["def update(p, pht, s, s_inv, y, x):"]
+    for i in rows:
+        lines.append(f"    {', '.join(f'h{i}_{b}' for b in cols)}, = pht[{i}]")
+    for c in cols:
+        lines.append(f"    {', '.join(f'v{c}_{b}' for b in cols)}, = s_inv[{c}]")
+        lines.append(f"    {', '.join(f's{c}_{b}' for b in cols)}, = s[{c}]")
+    lines.append(f"    {', '.join(f'y{b}' for b in cols)}, = y")
+    for i in rows:  # K = P Hᵀ S⁻¹, then x += K y
+        for b in cols:
+            lines.append(f"    k{i}_{b} = {total([f'h{i}_{c} * v{c}_{b}' for c in cols])}")
+        lines.append(f"    x[{i}] += {total([f'k{i}_{b} * y{b}' for b in cols])}")
+    for i in rows:  # U = P Hᵀ - K S
+        for b in cols:
+            ks = total([f"k{i}_{c} * s{c}_{b}" for c in cols])
+            lines.append(f"    u{i}_{b} = h{i}_{b} - ({ks})")
+    out = []
+    for i in rows:
+        lines.append(f"    r = p[{i}]")
+        entries = []
+        for j in rows:
+            e = f"r[{j}]"
+            for b in cols:
+                e = f"({e} - k{i}_{b} * h{j}_{b} - u{i}_{b} * k{j}_{b})"
+            entries.append(e)
+        lines.append(f"    n{i} = [{', '.join(entries)}]")
+        out.append(f"n{i}")
+    lines.append(f"    return [{', '.join(out)}]")
+    space: dict[str, Any] = {}
+    exec(compile("\n".join(lines) + "\n", f"<ddes.sim.ekf update m={m}>", "exec"), space)  # noqa: S102 - generated from an int
+    fn: Callable[..., list[list[float]]] = space["update"]
+    return fn
 
 
 def _full(values: Sequence[float]) -> list[float]:

@@ -8,6 +8,8 @@ import math
 from typing import Any
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import ddes
 from ddes.errors import DdesValueError
@@ -149,3 +151,49 @@ def test_first_measurement_initialises_then_predict_and_correct() -> None:
     f.process(1_500_000_000, {3: 1.0}, {(3, 3): 0.01})  # older: corrected, time not moved back
     assert f.last_ns == before
     assert not f.process(3_000_000_000, {3: 50.0}, {(3, 3): 0.01}, threshold=3.0)
+
+
+def _plain_gain_update(p: list[list[float]], pht: list[list[float]], s: list[list[float]],
+                       s_inv: list[list[float]], y: list[float], x: list[float]) -> list[list[float]]:
+    """The gain and Joseph update as plain loops, each sum added left to right from 0.0 (the
+    reference :func:`ddes.sim.ekf._gain_update` must equal bit for bit)."""
+    n, m = len(p), len(y)
+
+    def dot(a: list[float], b: list[float]) -> float:
+        total = 0.0
+        for u, v in zip(a, b):
+            total += u * v
+        return total
+
+    k = [[dot(pht[i], [s_inv[c][b] for c in range(m)]) for b in range(m)] for i in range(n)]
+    for i in range(n):
+        x[i] += dot(k[i], y)
+    ks = [[dot(k[i], [s[c][b] for c in range(m)]) for b in range(m)] for i in range(n)]
+    new = []
+    for i in range(n):
+        row = list(p[i])
+        for b in range(m):
+            a, u = k[i][b], pht[i][b] - ks[i][b]
+            row = [r - a * pht[j][b] - u * k[j][b] for j, r in enumerate(row)]
+        new.append(row)
+    return new
+
+
+@given(st.integers(1, 8), st.randoms(use_true_random=False))
+def test_generated_gain_update_equals_the_plain_loops_bit_for_bit(m: int, rnd: Any) -> None:
+    from ddes.sim.ekf import N, _gain_update
+
+    def num() -> float:
+        return rnd.choice([0.0, -0.0, 1e-9, -1.5]) if rnd.random() < 0.1 else rnd.uniform(-3, 3)
+
+    p = [[num() for _ in range(N)] for _ in range(N)]
+    pht = [[num() for _ in range(m)] for _ in range(N)]
+    s = [[num() for _ in range(m)] for _ in range(m)]
+    s_inv = [[num() for _ in range(m)] for _ in range(m)]
+    y = [num() for _ in range(m)]
+    x1 = [num() for _ in range(N)]
+    x2 = list(x1)
+    got = _gain_update(m)(p, pht, s, s_inv, y, x1)
+    want = _plain_gain_update(p, pht, s, s_inv, y, x2)
+    assert [[v.hex() for v in row] for row in got] == [[v.hex() for v in row] for row in want]
+    assert [v.hex() for v in x1] == [v.hex() for v in x2]
