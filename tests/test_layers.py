@@ -22,7 +22,7 @@ ROOT = REPO / "ddes" if (REPO / "ddes" / "__init__.py").is_file() else Path(ddes
 
 #: Bottom to top.  A group of several names is one layer of peers.
 LAYERS: list[tuple[str, ...]] = [
-    ("errors", "_version"),
+    ("errors", "_version", "_floats"),
     ("expr", "display", "transformations"),
     ("time",),
     ("kernel",),

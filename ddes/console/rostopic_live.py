@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from ddes import expr as safe_expr
+from ddes._floats import left_sum
 from ddes.console.rostopic import MsgEval, _field_class, _topic_class, get_topic_type
 from ddes.console.toolkit import (
     Task,
@@ -330,9 +331,9 @@ class TopicHz:
         if not self.times or self.msg_tn == self.last_printed_tn:
             return None
         n = len(self.times)
-        mean = sum(self.times) / n
+        mean = left_sum(self.times) / n
         rate = 1.0 / mean if mean > 0.0 else 0
-        std_dev = math.sqrt(sum((x - mean) ** 2 for x in self.times) / n)
+        std_dev = math.sqrt(left_sum((x - mean) ** 2 for x in self.times) / n)
         self.last_printed_tn = self.msg_tn
         return rate, min(self.times), max(self.times), std_dev, n + 1
 

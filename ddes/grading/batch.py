@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import TextIO
 
 import ddes
+from ddes._floats import left_sum
 from ddes.errors import GradingError, SubmissionError
 from ddes.grading.exercise import REGISTRY, Exercise, Scenario
 from ddes.grading.grader import (
@@ -176,7 +177,7 @@ def assemble(exercise: Exercise, shown: str, scenarios: Sequence[Scenario],
                 evidence[cid] += lines
                 first_failure.setdefault(cid, scenario)
     for c in exercise.criteria:
-        points = sum(scores[c.id]) / len(scores[c.id]) if scores[c.id] else 0.0
+        points = left_sum(scores[c.id]) / len(scores[c.id]) if scores[c.id] else 0.0
         failed = first_failure.get(c.id)
         report.criteria.append(CriterionReport(
             id=c.id, name=c.name, points=float(round(points, 4)), max_points=float(c.max_points),

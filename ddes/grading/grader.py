@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import ddes
+from ddes._floats import left_sum
 from ddes.errors import SubmissionError
 from ddes.grading.bridge import Lockstep
 from ddes.grading.exercise import Exercise, Facts, Scenario
@@ -87,7 +88,7 @@ def grade(exercise: Exercise, submission: str | Path, *, seed: int = 0, public: 
         shutil.rmtree(tmp, ignore_errors=True)
     for c in exercise.criteria:
         got = scores[c.id]
-        points = sum(got) / len(got) if got else 0.0
+        points = left_sum(got) / len(got) if got else 0.0
         failed = first_failure.get(c.id)
         report.criteria.append(CriterionReport(
             id=c.id, name=c.name, points=float(round(points, 4)), max_points=float(c.max_points),

@@ -18,6 +18,8 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ddes._floats import left_sum
+
 __all__ = ["CriterionReport", "GradeReport", "write_atomic"]
 
 
@@ -71,11 +73,11 @@ class GradeReport:
 
     @property
     def score(self) -> float:
-        return _round(sum(c.points for c in self.criteria))
+        return _round(left_sum(c.points for c in self.criteria))
 
     @property
     def max_score(self) -> float:
-        return _round(sum(c.max_points for c in self.criteria))
+        return _round(left_sum(c.max_points for c in self.criteria))
 
     @property
     def percent(self) -> float:

@@ -55,6 +55,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ddes._floats import left_sum
 from ddes.grading.course import CourseExercise, find_package, hidden_random, notes, parse_source
 from ddes.grading.exercise import Criterion, Facts, Scenario
 from ddes.grading.exercises.common import (
@@ -281,7 +282,7 @@ def _client_server(world: Any) -> None:
         log.goals.append((world.now, goal, gh.get_goal_id().id))
         gh.set_accepted()
         pts = [(q.pose.position.x, q.pose.position.y) for q in goal.path.poses]
-        node.process(feed(gh, sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))))
+        node.process(feed(gh, left_sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))))
 
     def preempt(gh: Any) -> Any:
         yield node.sleep(CLIENT_PREEMPT_S)
@@ -598,7 +599,7 @@ def check_feedback(facts: Facts) -> tuple[float, list[str]]:
         return points, lines
     x0, y0, _ = g.start
     pts = [(x0, y0), *g.points]
-    length = sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
+    length = left_sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
     initials = [fb.initial_distance for _t, fb in fbs]
     if max(initials) - min(initials) <= 1e-3 and abs(initials[0] - length) <= FB_TOL:
         points += 5
@@ -611,7 +612,7 @@ def check_feedback(facts: Facts) -> tuple[float, list[str]]:
     last = math.inf
     end = g.points[-1]
     j = k = 0
-    legs = [sum(math.dist(a, b) for a, b in zip(g.points[i:], g.points[i + 1:]))
+    legs = [left_sum(math.dist(a, b) for a, b in zip(g.points[i:], g.points[i + 1:]))
             for i in range(len(g.points))]
     for t, fb in fbs:
         rem = fb.remaining_distance
