@@ -282,6 +282,20 @@ def _nanoseconds(value: int | HasNsec | None, name: str) -> int | None:
     )
 
 
+def _value_indexes(keys: tuple[Any, ...], n: int,
+                   want: tuple[tuple[str, object], ...]) -> tuple[int, ...] | None:
+    """For each wanted key, the index among a row's ``n`` values of the value
+    ``dict(zip(keys, values))`` gives it (its last occurrence in ``keys[:n]``), or -1; None
+    where a key is unhashable (the reference path then fails as ``dict`` does)."""
+    index: dict[Any, int] = {}
+    for i, key in enumerate(keys[:n]):
+        try:
+            index[key] = i
+        except TypeError:  # an unhashable key: dict(zip()) fails the same way in _event
+            return None
+    return tuple(index.get(k, -1) for k, _ in want)
+
+
 def _match_details(details: Mapping[str, object], want: Mapping[str, object]) -> bool:
     return all(_same(details.get(k, _MISSING), v) for k, v in want.items())
 
@@ -773,6 +787,11 @@ class Trace:
         sources = None if source is None else (
             frozenset((source,)) if isinstance(source, str) else frozenset(source))
         out = TraceSelection()
+        want = tuple(details.items())
+        # Row-form rows are matched where they lie, the event built only for a match: per key
+        # tuple and value count, the index of each wanted key's value (the last occurrence
+        # among the keys that have a value, as dict(zip(keys, values)) keeps), or -1.
+        where: dict[tuple[int, int], tuple[tuple[Any, ...], tuple[int, ...] | None]] = {}
         for raw in self._raw:
             t, k = raw[0], raw[1]
             if exact is not None and k not in exact and not (kprefixes and k.startswith(kprefixes)):
@@ -783,10 +802,28 @@ class Trace:
                 continue
             if (lo is not None and t < lo) or (hi is not None and t > hi):
                 continue
-            ev = _event(raw)
-            if details and not _match_details(ev.details, details):
+            if want:
+                keys = raw[3]
+                if type(keys) is tuple:
+                    n = len(raw) - 4
+                    hit = where.get((id(keys), n))
+                    if hit is None or hit[0] is not keys:
+                        hit = where[(id(keys), n)] = (keys, _value_indexes(keys, n, want))
+                    indexes = hit[1]
+                    if indexes is None:
+                        out.append(_event(raw))  # raises as dict(zip()) does
+                        continue
+                    if not all(_same(raw[i + 4] if i >= 0 else _MISSING, w)
+                               for i, (_, w) in zip(indexes, want)):
+                        continue
+                    out.append(_event(raw))
+                    continue
+                ev = _event(raw)
+                if not _match_details(ev.details, details):
+                    continue
+                out.append(ev)
                 continue
-            out.append(ev)
+            out.append(_event(raw))
         return out
 
     def filter(
