@@ -838,23 +838,42 @@ class BufferCore:
         /tf bytes), when every check passes: True if inserted; False, with nothing changed and
         nothing logged, when a check or the cache refuses it (the caller then goes the checked way,
         which logs tf2's line)."""
+        slot = self._fast_slot(frame_id, child)
+        return slot is not None and self._insert_fast(slot, stamp, tx, ty, tz, qx, qy, qz, qw,
+                                                      authority)
+
+    def _fast_slot(self, frame_id: str, child: str) -> tuple[int, int, TimeCache] | None:
+        """Where :meth:`_set_transform_fast` puts a transform from ``frame_id`` to ``child``:
+        (parent id, child id, the child's TimeCache) when the names pass tf2's checks, both
+        frames are known and the child has a TimeCache; else None (the checked way decides).
+        A slot holds for the buffer's life: frame ids are never renumbered, and a frame's cache,
+        once made, is never replaced (``clear`` empties it)."""
         if frame_id[:1] == "/":
             frame_id = frame_id[1:]
         if child[:1] == "/":
             child = child[1:]
-        if (child == frame_id or not child or not frame_id or tx != tx or ty != ty or tz != tz
-                or qx != qx or qy != qy or qz != qz or qw != qw
-                or not abs((qw * qw + qx * qx + qy * qy + qz * qz) - 1.0)
-                < QUATERNION_NORMALIZATION_TOLERANCE):
-            return False
+        if child == frame_id or not child or not frame_id:
+            return None
         ids = self._ids
         child_id = ids.get(child)
         parent_id = ids.get(frame_id)
         if child_id is None or parent_id is None:
-            return False  # a new frame: the checked way numbers the frames in tf2's order
+            return None  # a new frame: the checked way numbers the frames in tf2's order
         cache = self._frames[child_id]
         if cache is None or cache.__class__ is not TimeCache:
+            return None
+        return parent_id, child_id, cache
+
+    def _insert_fast(self, slot: tuple[int, int, TimeCache], stamp: int, tx: float, ty: float,
+                     tz: float, qx: float, qy: float, qz: float, qw: float,
+                     authority: str) -> bool:
+        """The values' checks and the insertion into a :meth:`_fast_slot`: True if inserted;
+        False, with nothing changed and nothing logged, if a check or the cache refuses."""
+        if (tx != tx or ty != ty or tz != tz or qx != qx or qy != qy or qz != qz or qw != qw
+                or not abs((qw * qw + qx * qx + qy * qy + qz * qz) - 1.0)
+                < QUATERNION_NORMALIZATION_TOLERANCE):
             return False
+        parent_id, child_id, cache = slot
         if cache.insert((stamp, parent_id, child_id, tx, ty, tz, qx, qy, qz, qw)) is not None:
             return False  # the cache changed nothing (old or repeated data)
         self._authority[child_id] = authority

@@ -9,7 +9,7 @@ from ``ros::Duration::toSec()``, ``Vector3::setInterpolate3`` for the translatio
 
 from __future__ import annotations
 
-from bisect import bisect_right
+from bisect import bisect_left, bisect_right
 from math import sqrt
 
 from ddes.transformations import acos, sin
@@ -111,6 +111,16 @@ class TimeCache:
         """Insert; None on success, else tf2's error text (old or repeated data)."""
         stamps = self.stamps
         stamp = new[0]
+        if stamps and stamp > stamps[-1]:
+            # the usual case, a newer stamp: appended; pruneList drops what fell out of the window
+            stamps.append(stamp)
+            self.entries.append(new)
+            oldest = stamp - self.max_storage_ns
+            if stamps[0] < oldest:
+                cut = bisect_left(stamps, oldest)
+                del stamps[:cut]
+                del self.entries[:cut]
+            return None
         if stamps and stamps[-1] > stamp + self.max_storage_ns:
             return OLD_DATA
         i = bisect_right(stamps, stamp)

@@ -7,6 +7,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from hypothesis import given
+from hypothesis import strategies as st
+
 import ddes
 from ddes.msg import get_message_class
 from ddes.tf2_ros import Buffer, TransformBroadcaster, TransformListener
@@ -142,3 +145,66 @@ def test_the_bytes_message_is_a_tfmessage_read_when_used() -> None:
     pub.publish(lazy.__new__(lazy)._deserialize_from(data))
     world.run(until=0.02)
     assert [m.transforms[0].transform.translation.x for m in got] == [1.5]
+
+
+# -- a steady stream: the same frames message after message -----------------------------------
+
+PAIRS = [("odom", "base_link"), ("/odom", "base_link"), ("map", "odom"), ("odom", "odom"),
+         ("", "base_link"), ("base_link", "laser"), ("base_link", "imu")]  # imu: also static
+
+
+def play_stream(buffer_class: type, script: list[list[tuple[int, int, float, float]]],
+                swap_at: int | None = None) -> tuple[Any, Any]:
+    """Publish ``script`` on /tf, one message per 10 ms: each message a list of (pair index,
+    stamp step in ms, x, qw), the stamp being the last one plus the step (0: repeated data;
+    below 0: going back, old data past 10 s); /tf_static holds base_link->imu.  At message
+    ``swap_at`` the listener gets a new buffer (every buffer is returned)."""
+    world = ddes.World(seed=5)
+    world.log_output = False
+    pub_node = world.create_node("broadcaster")
+    listener_node = world.create_node("listener")
+    bufs = [buffer_class(node=listener_node)]
+    listener = TransformListener(listener_node, bufs[0])
+    br = TransformBroadcaster(pub_node)
+    static = pub_node.advertise("/tf_static", TFMessage, queue_size=1, latch=True)
+    static.publish(TFMessage(transforms=[ts("base_link", "imu", 0, 0.1)]))
+
+    def go() -> Any:
+        ms = 0
+        for k, message in enumerate(script):
+            yield pub_node.world.env.timeout(10_000_000)
+            if k == swap_at:
+                bufs.append(buffer_class(node=listener_node))
+                listener.buffer = bufs[-1]
+            transforms = []
+            for i, step, x, qw in message:
+                ms = max(0, ms + step)
+                transforms.append(ts(*PAIRS[i], ms * 1_000_000, x, qw=qw))
+            br.pub_tf.publish(TFMessage(transforms=transforms))
+
+    pub_node.process(go())
+    world.run(until=0.01 * len(script) + 0.5)
+    return world, bufs
+
+
+transform = st.tuples(st.sampled_from([0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5, 6]),  # mostly one pair
+                      st.sampled_from([7, 7, 7, 7, 20, 0, -3, -20_000]),  # repeated, old stamps
+                      st.sampled_from([0.0, 0.5, -1.25, 0.25, math.nan]),
+                      st.sampled_from([1.0, 1.0, 1.0, -1.0, 0.5]))        # 0.5: not normalised
+# runs of one-transform messages between the same frames (a broadcaster's stream), between
+# messages of several transforms (or none)
+run = st.tuples(transform, st.integers(1, 6)).map(lambda r: [[r[0]]] * r[1])
+stream = st.lists(st.one_of(run, st.lists(transform, max_size=3).map(lambda m: [m])),
+                  max_size=8).map(lambda parts: [m for part in parts for m in part])
+
+
+@given(script=stream, data=st.data())
+def test_a_stream_of_the_same_frames_goes_as_the_message_way(
+        script: list[list[tuple[int, int, float, float]]], data: st.DataObject) -> None:
+    swap_at = data.draw(st.one_of(st.none(), st.integers(0, max(0, len(script) - 1))))
+    fast_world, fast = play_stream(Buffer, script, swap_at)
+    slow_world, slow = play_stream(MessageWayBuffer, script, swap_at)
+    assert len(fast) == len(slow)
+    for f, s in zip(fast, slow):
+        assert state(f) == state(s)
+    assert fast_world.digest() == slow_world.digest()  # the same tf2 log lines, times and sites
