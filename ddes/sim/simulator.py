@@ -496,10 +496,15 @@ class Simulator:
         self._scan_pub = node.advertise("scan", self._LaserScan, queue_size=10) if laser else None
         self._gt_pub = (node.advertise("ground_truth/odom", odometry, queue_size=10)
                         if ground_truth else None)
+        self._trace = self.world.trace
+        self._env = self.world.env
+        self._node_name = node.name
         self._clock_m = self._Clock()
         self._odom_m = self._new_odom("odom")
         self._gt_m = self._new_odom("world")
-        self._imu_m = self._new_imu()
+        self._imu_m = m = self._new_imu()
+        # the parts _publish_imu refills (the message is made once, as the others)
+        self._imu_parts = (m.header, m.orientation, m.angular_velocity, m.linear_acceleration)
         self._scan_m = self._new_scan()
         moving = ts()
         moving.header.frame_id = "odom"
@@ -571,7 +576,8 @@ class Simulator:
         return c * dx + s * dy, -s * dx + c * dy, wrap_angle(self._yaw - yaw0)
 
     def _publish(self, step: int) -> None:
-        stamp = Time._from_ns(step * DT_NS)
+        stamp = _new_time(Time)  # Time._from_ns(step * DT_NS), written out (step >= 0)
+        stamp.secs, stamp.nsecs = divmod(step * DT_NS, 1_000_000_000)
         if self._clock_pub is not None:
             clock = self._clock_m
             clock.clock = stamp
@@ -592,9 +598,10 @@ class Simulator:
             h.yaw.append(self._yaw)
             h.v.append(self._v)
             h.w.append(self._w)
-            self.world.record("sim.pose", self.node.name, stamp=step * DT_NS, x=self._x.hex(),
-                              y=self._y.hex(), yaw=self._yaw.hex(), v=self._v.hex(),
-                              w=self._w.hex())
+            # world.record("sim.pose", ...), written out: the same row
+            self._trace.append_row((self._env.now_ns, "sim.pose", self._node_name, {
+                "stamp": step * DT_NS, "x": self._x.hex(), "y": self._y.hex(),
+                "yaw": self._yaw.hex(), "v": self._v.hex(), "w": self._w.hex()}))
 
     # The messages are made once and refilled: a publish serializes its snapshot at once.
     def _new_odom(self, frame: str) -> Message:
@@ -656,8 +663,8 @@ class Simulator:
         return m
 
     def _publish_imu(self, stamp: Time, step: int) -> None:
-        m = self._imu_m
-        m.header.stamp = stamp
+        header, orientation, angular, acc = self._imu_parts
+        header.stamp = stamp
         v, w = self._v, self._w
         ax = (v - self._v_prev) / _DT
         ay = v * w
@@ -693,14 +700,13 @@ class Simulator:
             ax += a * bx
             ay += a * by
         s, c = sincos(0.5 * yaw)
-        m.orientation.z = s
-        m.orientation.w = c
-        m.angular_velocity.z = gz
-        acc = m.linear_acceleration
+        orientation.z = s
+        orientation.w = c
+        angular.z = gz
         acc.x = ax
         acc.y = ay
         acc.z = az
-        self._imu_pub.publish(m)
+        self._imu_pub.publish(self._imu_m)
 
     def laser_origin(self) -> tuple[float, float, float]:
         """The laser's position and heading in the world now."""
@@ -739,6 +745,7 @@ class Simulator:
 
 
 _INF = float("inf")
+_new_time = Time.__new__
 
 
 def _limit(t: float) -> float:
