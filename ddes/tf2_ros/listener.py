@@ -192,7 +192,7 @@ def _parse_tf(data: bytes) -> list[tuple[str, str, int, float, float, float, flo
     when the bytes do not parse exactly (trailing bytes included)."""
     try:
         (count,), o = _U32.unpack_from(data, 0), 4
-        out = []
+        out: list[Any] = []
         for _ in range(count):
             _seq, secs, nsecs, n = _HEADER.unpack_from(data, o)
             o += 16
