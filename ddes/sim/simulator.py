@@ -144,10 +144,6 @@ _LIMITS = RobotLimits()
 _FOOTPRINT = Footprint()
 
 
-def _clamp(x: float, lo: float, hi: float) -> float:
-    return lo if x < lo else (hi if x > hi else x)
-
-
 class Simulator:
     """The deterministic 2D SMB as a node of ``world`` (see the module text).
 
@@ -393,14 +389,18 @@ class Simulator:
             cv, cw = self._cmd
         else:
             cv = cw = 0.0
-        cv = _clamp(cv, -lim.v_max, lim.v_max)
-        cw = _clamp(cw, -lim.w_max, lim.w_max)
+        # the command clamped to the limits, then the velocities slewed toward it at the
+        # acceleration limits; each clamp is `lo if x < lo else (hi if x > hi else x)`,
+        # written out rather than called (this runs every 10 ms step): the same comparisons
+        # in the same order, so the same bits
+        cv = -m if cv < -(m := lim.v_max) else (m if cv > m else cv)
+        cw = -m if cw < -(m := lim.w_max) else (m if cw > m else cw)
         dv = lim.a_max * _DT
         dw = lim.alpha_max * _DT
         v0 = self._v
         self._v_prev = v0
-        v = v0 + _clamp(cv - v0, -dv, dv)
-        w = self._w + _clamp(cw - self._w, -dw, dw)
+        v = v0 + (-dv if (e := cv - v0) < -dv else (dv if e > dv else e))
+        w = self._w + (-dw if (e := cw - self._w) < -dw else (dw if e > dw else e))
         x, y, yaw = self._x, self._y, self._yaw
         s, c = sincos(yaw + w * (0.5 * _DT))
         nx = x + v * c * _DT
