@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import bisect
 import datetime
+import functools
 import heapq
 import io
 import os
@@ -803,6 +804,26 @@ class Bag:
     def _read(self, conns: list[ConnectionInfo], start: int | None, end: int | None, raw: bool,
               with_header: bool) -> Iterator[BagMessage | BagMessageWithConnectionHeader]:
         by_id = {c.id: c for c in conns}
+        if raw and not with_header:
+            # the common raw read (rosbag's raw=True, ddes's own copying and filtering): each
+            # connection's topic, type and class looked up once, the rest built in place
+            entries: Iterable[Entry] = (
+                self._indexes[conns[0].id] if len(conns) == 1 and start is None and end is None
+                else self._entries(conns, start, end))
+            heads: dict[int, tuple[str, str, str, type[Message] | None]] = {}
+            for t, cid, data in entries:
+                head = heads.get(cid)
+                if head is None:
+                    conn = by_id[cid]
+                    try:
+                        pytype: type[Message] | None = self.message_class(conn)
+                    except ROSBagException:
+                        pytype = None
+                    head = heads[cid] = (conn.topic, conn.datatype, conn.md5sum, pytype)
+                stamp = _new_time(Time)  # Time._from_ns(t): a bag's times are >= 0
+                stamp.secs, stamp.nsecs = divmod(t, 1_000_000_000)
+                yield _bag_message((head[0], (head[1], data, head[2], None, head[3]), stamp))
+            return
         for t, cid, data in self._entries(conns, start, end):
             conn = by_id[cid]
             if raw:
@@ -958,3 +979,8 @@ class Bag:
                   shown(r.datatype), r.connections) for r in topics),
                 caption="topics", mono=(0, 3), limit=10_000))
         return "".join(out)
+
+
+# Bag._read's raw path: Time._from_ns and BagMessage(...) without their Python-level calls
+_new_time = Time.__new__
+_bag_message = functools.partial(tuple.__new__, BagMessage)
