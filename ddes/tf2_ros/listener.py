@@ -11,10 +11,10 @@ As everywhere in ddes the node comes first: ``TransformListener(node, buffer)``,
   the last message (``rosbag play --loop``, a ``/clock`` restart) it logs ``Detected jump back in
   time of %fs. Clearing TF buffer.`` (rospy's text; a roscpp node logs tf2_ros C++'s ``Detected
   jump back in time. Clearing TF buffer.``) and clears the buffer first.
-* ``/tf`` is received as bytes (a TFMessage subclass that keeps them and reads ``transforms``
-  from them when first used) and parsed straight into the buffer's values, with no message
-  objects; a
-  transform that a check or the cache refuses, an unparsable message, a Buffer whose
+* ``/tf`` is received as bytes (a TFMessage subclass that keeps them, reading ``transforms`` when
+  used) and parsed straight into the buffer, with no message objects (one transform between the
+  frames of the last one: only its stamp and values are read); a transform that a check or the
+  cache refuses, an unparsable message, a Buffer whose
   ``set_transform`` or a listener whose ``callback`` is overridden go the message way
   (``callback(msg)``, ``set_transform``), so results, logs and order are the same.
 * ``TransformBroadcaster`` publishes on ``/tf`` (queue 100); ``sendTransform`` takes one
