@@ -804,41 +804,31 @@ class Bag:
     def _read(self, conns: list[ConnectionInfo], start: int | None, end: int | None, raw: bool,
               with_header: bool) -> Iterator[BagMessage | BagMessageWithConnectionHeader]:
         by_id = {c.id: c for c in conns}
-        if raw and not with_header:
-            # the common raw read (rosbag's raw=True, ddes's own copying and filtering): each
-            # connection's topic, type and class looked up once, the rest built in place
-            entries: Iterable[Entry] = (
-                self._indexes[conns[0].id] if len(conns) == 1 and start is None and end is None
-                else self._entries(conns, start, end))
-            heads: dict[int, tuple[str, str, str, type[Message] | None]] = {}
-            for t, cid, data in entries:
-                head = heads.get(cid)
-                if head is None:
-                    conn = by_id[cid]
-                    try:
-                        pytype: type[Message] | None = self.message_class(conn)
-                    except ROSBagException:
-                        pytype = None
-                    head = heads[cid] = (conn.topic, conn.datatype, conn.md5sum, pytype)
-                stamp = _new_time(Time)  # Time._from_ns(t): a bag's times are >= 0
-                stamp.secs, stamp.nsecs = divmod(t, 1_000_000_000)
-                yield _bag_message((head[0], (head[1], data, head[2], None, head[3]), stamp))
-            return
-        for t, cid, data in self._entries(conns, start, end):
+        # one connection with no bounds is its index as it is (no merge, no bound checks)
+        entries: Iterable[Entry] = (
+            self._indexes[conns[0].id] if len(conns) == 1 and start is None and end is None
+            else self._entries(conns, start, end))
+        pytypes: dict[int, type[Message] | None] = {}  # raw: each connection's class, once
+        for t, cid, data in entries:
             conn = by_id[cid]
             if raw:
-                try:
-                    pytype = self.message_class(conn)
-                except ROSBagException:
-                    pytype = None
+                if cid in pytypes:
+                    pytype = pytypes[cid]
+                else:
+                    try:
+                        pytype = self.message_class(conn)
+                    except ROSBagException:
+                        pytype = None
+                    pytypes[cid] = pytype
                 msg: Message | RawMessage = (conn.datatype, data, conn.md5sum, None, pytype)
             else:
                 msg = self._deserialize(conn, t, data)
-            stamp = Time._from_ns(t)
+            stamp = _new_time(Time)  # Time._from_ns(t), written out: a bag's times are >= 0
+            stamp.secs, stamp.nsecs = divmod(t, _NS)
             if with_header:
                 yield BagMessageWithConnectionHeader(conn.topic, msg, stamp, conn.header)
             else:
-                yield BagMessage(conn.topic, msg, stamp)
+                yield _bag_message((conn.topic, msg, stamp))
 
     def __iter__(self) -> Iterator[BagMessage]:
         return self.read_messages()
@@ -981,6 +971,6 @@ class Bag:
         return "".join(out)
 
 
-# Bag._read's raw path: Time._from_ns and BagMessage(...) without their Python-level calls
+# Bag._read: Time._from_ns and BagMessage(...) without their Python-level calls
 _new_time = Time.__new__
 _bag_message = functools.partial(tuple.__new__, BagMessage)

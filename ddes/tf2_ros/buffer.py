@@ -36,6 +36,7 @@ if TYPE_CHECKING:
     import simpy
 
     from ddes.graph.node import Node
+    from ddes.tf2.cache import TimeCache
 
 __all__ = ["DEFAULT_CAN_TRANSFORM_POLLING_SCALE", "Buffer", "TimeoutException", "TypeException"]
 
@@ -139,12 +140,12 @@ class Buffer(BufferCore):
             self._wake()
         return result
 
-    def _set_transform_fast(self, frame_id: str, child: str, stamp: int, tx: float, ty: float,
-                            tz: float, qx: float, qy: float, qz: float, qw: float,
-                            authority: str) -> bool:
-        """BufferCore's unchecked-path insertion; a wait it satisfies succeeds now."""
-        done = BufferCore._set_transform_fast(self, frame_id, child, stamp, tx, ty, tz, qx, qy, qz,
-                                              qw, authority)
+    def _insert_fast(self, slot: tuple[int, int, TimeCache], stamp: int, tx: float, ty: float,
+                     tz: float, qx: float, qy: float, qz: float, qw: float,
+                     authority: str) -> bool:
+        """BufferCore's unchecked-path insertion (the one ``_set_transform_fast`` and the
+        listener's steady-stream path both end in); a wait it satisfies succeeds now."""
+        done = BufferCore._insert_fast(self, slot, stamp, tx, ty, tz, qx, qy, qz, qw, authority)
         if done and self._waiters:
             self._wake()
         return done

@@ -122,27 +122,22 @@ class TransformListener:
             return
         raw = data._buff
         names = self._names
-        if (names is not None and raw[:4] == _ONE and raw[16:-56] == names[0]
-                and names[3] is buf and type(buf) in _CORE_FAST):
-            # one transform between the same frames as last time into the same tf2_ros.Buffer
-            # (a broadcaster's steady stream): only the stamp and the values are read; the
-            # names, and where they go in the buffer, are the last ones
+        if (names is not None and names[3] is buf and raw[:4] == _ONE
+                and raw[16:-56] == names[0]):
+            # one transform between the same frames as last time into the same buffer (a
+            # broadcaster's steady stream): only the stamp and the values are read; the names,
+            # and where they go in the buffer, are the last ones
             secs, nsecs = _STAMP.unpack_from(raw, 8)
             values = _SEVEN.unpack_from(raw, len(raw) - 56)
             self.check_for_reset()
-            header = getattr(data, "_connection_header", None)  # _authority(data), written out
-            who = (str(header.get("callerid", "default_authority")) if header.__class__ is dict
-                   else _authority(data))
+            who = _authority(data)
             slot = names[4]
             if slot is None:
                 slot = buf._fast_slot(names[1], names[2])
                 if slot is not None:
                     self._names = (names[0], names[1], names[2], buf, slot)
-            if slot is not None and buf._insert_fast(slot, secs * 1_000_000_000 + nsecs, *values,
-                                                     who):
-                if buf._waiters:
-                    buf._wake()
-            else:
+            if slot is None or not buf._insert_fast(slot, secs * 1_000_000_000 + nsecs, *values,
+                                                    who):
                 buf.set_transform(data.transforms[0], who)
             return
         items = _parse_tf(raw)
@@ -152,20 +147,7 @@ class TransformListener:
         if len(items) == 1:
             self._names = (raw[16:-56], items[0][0], items[0][1], buf, None)
         self.check_for_reset()
-        header = getattr(data, "_connection_header", None)  # _authority(data), written out
-        who = (str(header.get("callerid", "default_authority")) if header.__class__ is dict
-               else _authority(data))
-        core = _CORE_FAST.get(type(buf))
-        if core is not None:
-            # a plain tf2_ros.Buffer: BufferCore's insertion, then the wake-up, as its own
-            # _set_transform_fast does (one call less per transform)
-            for k, item in enumerate(items):
-                if core(buf, *item, who):
-                    if buf._waiters:
-                        buf._wake()
-                else:
-                    buf.set_transform(data.transforms[k], who)
-            return
+        who = _authority(data)
         fast = buf._set_transform_fast
         for k, item in enumerate(items):
             if not fast(*item, who):
@@ -214,8 +196,6 @@ def _parse_tf(data: bytes) -> list[tuple[str, str, int, float, float, float, flo
 
 
 _PLAIN: list[object] = []
-# type -> BufferCore._set_transform_fast, for exactly tf2_ros.Buffer (filled with _PLAIN)
-_CORE_FAST: dict[type, Any] = {}
 
 
 def _plain(buf: Any) -> bool:
@@ -225,7 +205,6 @@ def _plain(buf: Any) -> bool:
         from ddes.tf2_ros.buffer import Buffer
 
         _PLAIN.extend((Buffer.set_transform, BufferCore.set_transform))
-        _CORE_FAST[Buffer] = BufferCore._set_transform_fast
     return (getattr(type(buf), "set_transform", None) in _PLAIN
             and "set_transform" not in getattr(buf, "__dict__", ()))
 

@@ -1,6 +1,7 @@
-"""``read_messages(raw=True)`` takes a path of its own (each connection's topic, type and class
-looked up once, one connection read straight from its index): it yields exactly what the general
-path yields, the one ``return_connection_header=True`` takes, for any topics, bounds and file."""
+"""``read_messages`` looks each connection's class up once and reads one unbounded connection
+straight from its index: ``raw=True`` yields exactly what ``return_connection_header=True``
+yields, and both what the writes say (topics, bounds, time order), for any topics, bounds and
+chunking, from a file and in memory."""
 
 from __future__ import annotations
 
@@ -17,6 +18,21 @@ from ddes.rosbag import Bag
 String = get_message_class("std_msgs/String")
 Int32 = get_message_class("std_msgs/Int32")
 TOPICS = ["/a", "/b", "/c"]
+
+
+def expected(writes: list[tuple[str, int, int]], topics: Any, start: Time | None,
+             end: Time | None) -> list[tuple[str, bytes, int]]:
+    """(topic, bytes, ns) of what a read should give, from the writes alone: the wanted topics
+    (None or [] all of them), inclusive bounds (a zero Time is none), in time order, ties by
+    connection (first write of a topic) and then by write."""
+    wanted = set(TOPICS if not topics else [topics] if isinstance(topics, str) else topics)
+    lo = start.to_nsec() if start else None
+    hi = end.to_nsec() if end else None
+    first = {topic: i for i, (topic, _, _) in reversed(list(enumerate(writes)))}
+    rows = [(t_ns, first[topic], i, topic, k) for i, (topic, t_ns, k) in enumerate(writes)
+            if topic in wanted and (lo is None or t_ns >= lo) and (hi is None or t_ns <= hi)]
+    return [(topic, (Int32(data=k) if topic == "/c" else String(data=f"m{k}"))
+             ._serialize_to_bytes(), t_ns) for t_ns, _, _, topic, k in sorted(rows)]
 
 
 def general(bag: Bag, **kw: Any) -> list[tuple[Any, ...]]:
@@ -47,6 +63,8 @@ def test_raw_reads_as_the_general_path(tmp_path_factory: Any, writes: list[tuple
         kw = {"topics": topics, "start_time": start, "end_time": end}
         fast = [(m.topic, m.message, m.timestamp) for m in b.read_messages(raw=True, **kw)]
         assert fast == general(b, **kw)
+        assert [(m[0], m[1][1], m[2].to_nsec()) for m in fast] == expected(writes, topics, start,
+                                                                           end)
         assert all(type(m).__name__ == "BagMessage" for m in b.read_messages(raw=True, **kw))
         for m in b.read_messages(raw=True, **kw):
             datatype, data, md5sum, _, pytype = m.message
