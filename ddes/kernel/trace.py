@@ -35,6 +35,7 @@ from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
+from ddes.kernel.trace_lines import LineEncoder
 from ddes.time.units import HasNsec
 
 __all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
@@ -222,21 +223,28 @@ def _line(raw: Row) -> str:
     return _row_encoder(raw[3])(raw)
 
 
-def _lines(rows: list[Row]) -> str:
-    """The canonical lines of ``rows``, each ending in a newline: what the digest hashes."""
+def _row_line(raw: Row) -> str:
+    """The canonical line of any stored row, by its shape's encoder (the reference path of
+    :class:`~ddes.kernel.trace_lines.LineEncoder`; no address scrub)."""
+    entry = _BY_ID.get(id(raw[3]))
+    if entry is not None and entry[0] is raw[3]:
+        return entry[1](raw)
+    return _line(raw)
+
+
+def _lines(rows: list[Row], encoder: LineEncoder | None = None) -> str:
+    """The canonical lines of ``rows``, each ending in a newline: what the digest hashes.
+
+    ``encoder`` (a trace's own, which learns its shapes) writes them faster; the text is the
+    same either way.
+    """
     if not rows:
         return ""
-    get = _BY_ID.get
-    out: list[str] = []
-    append = out.append
-    for raw in rows:
-        entry = get(id(raw[3]))
-        if entry is not None and entry[0] is raw[3]:
-            append(entry[1](raw))
-        else:
-            append(_line(raw))
-    text = "\n".join(out)
-    text += "\n"
+    if encoder is not None:
+        text = encoder.lines(rows)
+    else:
+        text = "\n".join(map(_row_line, rows))
+        text += "\n"
     if " at 0x" in text:
         text = _ADDRESS.sub(" at 0x…>", text)
     return text
@@ -386,7 +394,7 @@ class Trace:
         "_raw", "_counts", "_enabled", "_subscribers", "_notify", "_listeners",
         "_include", "_exclude", "_decisions", "_fast", "append_row", "record_fast",
         "_hash", "_folded", "_bound", "_high", "_evicted", "_evicted_counts", "_spill",
-        "_spill_path",
+        "_spill_path", "_encoder",
     )
 
     #: ``append_row(row)``: append ``(t, kind, source, keys, *values)``, keys a tuple of names.
@@ -414,6 +422,7 @@ class Trace:
         # every evicted row before them.
         self._hash = hashlib.sha256()
         self._folded = 0
+        self._encoder = LineEncoder(_row_line)
         # Bounded mode (see bound()): keep at most _bound rows; evict when _high is reached.
         self._bound: int | None = None
         self._high = 0
@@ -435,7 +444,7 @@ class Trace:
                 "(its digest state lives in a running sha256); copy the world before "
                 "trace.bound(...) evicts, or keep the trace unbounded")
         skip = {"append_row", "record_fast", "_notify", "_listeners", "_decisions", "_fast",
-                "_hash", "_folded", "_spill"}
+                "_hash", "_folded", "_spill", "_encoder"}
         return {name: getattr(self, name) for name in self.__slots__ if name not in skip}
 
     def __setstate__(self, state: dict[str, object]) -> None:
@@ -443,6 +452,7 @@ class Trace:
             setattr(self, name, value)
         self._hash = hashlib.sha256()
         self._folded = 0
+        self._encoder = LineEncoder(_row_line)
         self._spill = None
         self._rebind()
 
@@ -580,7 +590,7 @@ class Trace:
         i = self._folded
         while i < upto:
             j = min(upto, i + _FOLD_CHUNK)
-            text = _lines(raw[i:j])
+            text = _lines(raw[i:j], self._encoder)
             h.update(text.encode("utf-8"))
             if spill is not None:
                 spill.write(text)
@@ -858,7 +868,7 @@ class Trace:
         raw = self._raw
         for i in range(0, len(raw), _FOLD_CHUNK):
             # split on "\n" only: a line may hold U+2028 or U+0085 (not escaped by json)
-            yield from _lines(raw[i:i + _FOLD_CHUNK])[:-1].split("\n")
+            yield from _lines(raw[i:i + _FOLD_CHUNK], self._encoder)[:-1].split("\n")
 
     def digest(self) -> str:
         """sha256 (hex) over the canonical form of every stored event.
@@ -878,7 +888,7 @@ class Trace:
         # A spilling trace writes a row to its file only when it is evicted: fold the rows
         # still in memory into a copy, leaving them to be spilled later.
         h = self._hash.copy()
-        h.update(_lines(self._raw[self._folded:]).encode("utf-8"))
+        h.update(_lines(self._raw[self._folded:], self._encoder).encode("utf-8"))
         return h.hexdigest()
 
     def dump(self, path: str) -> None:
