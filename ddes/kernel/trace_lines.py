@@ -96,14 +96,14 @@ def _branch(n: int, keys: tuple[str, ...], sig: tuple[str, ...]) -> tuple[list[s
     quotes = 2 * len(keys)
     for name, code in zip(names, sig):
         if code == _INT:
-            tests.append(f"T({name}) is int")
+            tests.append(f"T({name}) is TI")
         elif code == _FLOAT:
-            tests.append(f"T({name}) is float and {name} - {name} == 0.0")
+            tests.append(f"T({name}) is TF and {name} - {name} == 0.0")
         elif code == _BYTES:
-            tests.append(f"T({name}) is bytes")
+            tests.append(f"T({name}) is TB")
             quotes += 2
         else:
-            tests.append(f"T({name}) is str")
+            tests.append(f"T({name}) is TS")
             if code == _STR:
                 quotes += 2
             else:  # escaped: its quotes and backslashes are counted per row
@@ -153,7 +153,7 @@ def _generate(shapes: list[tuple[tuple[str, ...], tuple[str, ...]]]) -> str:
         body += ["if T(k) is tuple:", "    miss(k, r)"]
     args = "".join(f", K{n}=None" for n in range(len(shapes)))
     return "\n".join([
-        f"def loop(rows, miss, LINE, T=type, S=None, H=None{args}):",
+        f"def loop(rows, miss, LINE, T=type, S=None, H=None, TI=int, TS=str, TF=float, TB=bytes{args}):",
         "    out = []",
         "    a = out.append",
         "    q = 0",
@@ -220,7 +220,7 @@ class LineEncoder:
         loop = space["loop"]
         defaults = list(loop.__defaults__)
         defaults[1:3] = [encode_basestring, sha256]
-        defaults[3:] = [keys for keys, _ in self._shapes]
+        defaults[7:] = [keys for keys, _ in self._shapes]  # after T, S, H and the four types
         loop.__defaults__ = tuple(defaults)
         self._loop = loop
 
