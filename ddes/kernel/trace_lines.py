@@ -88,12 +88,12 @@ def signature(row: Row) -> tuple[str, ...] | None:
     return tuple(codes)  # type: ignore[arg-type]
 
 
-def _branch(n: int, keys: tuple[str, ...], sig: tuple[str, ...]) -> tuple[list[str], int]:
-    """The source lines of shape ``n``'s branch (inside the loop), and its quotes per line."""
+def _branch(n: int, keys: tuple[str, ...], sig: tuple[str, ...]) -> list[str]:
+    """The source lines of shape ``n``'s branch (inside the loop)."""
     names = ["t", "kind", "source"] + [f"v{j}" for j in range(len(keys))]
     tests = []
     pre: list[str] = []
-    quotes = 2 * len(keys)
+    quotes = 2 * len(keys)  # the marks of a line besides its escaped strings
     for name, code in zip(names, sig):
         if code == _INT:
             tests.append(f"T({name}) is TI")
@@ -139,14 +139,14 @@ def _branch(n: int, keys: tuple[str, ...], sig: tuple[str, ...]) -> tuple[list[s
              f"            a({' '.join(parts)})",
              f"            q += {quotes}",
              "            continue"]
-    return lines, quotes
+    return lines
 
 
 def _generate(shapes: list[tuple[tuple[str, ...], tuple[str, ...]]]) -> str:
     """The source of the chunk loop for ``shapes`` ((keys, signature), in branch order)."""
     body: list[str] = []
     for n, (keys, sig) in enumerate(shapes):
-        body += _branch(n, keys, sig)[0]
+        body += _branch(n, keys, sig)
     if shapes:
         body += ["else:", "    if T(k) is tuple:", "        miss(k, r)"]
     else:
