@@ -39,7 +39,7 @@ Row = tuple[Any, ...]
 
 #: Most shapes with a branch of their own (each miss walks the chain of ``is`` tests).
 MAX_BRANCHES = 12
-#: Rows of one shape, in one chunk, that give it a branch.
+#: Rows of one shape that took the reference path and give it a branch.
 LEARN_AT = 16
 #: Rows of the first chunk looked at to find its shapes before the first loop is generated.
 PRESCAN = 1024
@@ -54,6 +54,8 @@ _STR, _ESCAPED, _INT, _FLOAT, _BYTES = "s", "S", "i", "f", "b"
 #: Generated sources already compiled (the same shapes recur in every world of a process).
 _COMPILED: dict[str, Any] = {}
 _MAX_COMPILED = 256
+#: Shapes whose misses are counted at once (more are forgotten, and counted again).
+_MAX_MISSES = 4096
 
 
 def _code(t: object) -> str | None:
@@ -193,12 +195,17 @@ class LineEncoder:
             seen[0] += 1
 
     def _learn(self, at: int) -> bool:
-        """Give a branch to each shape that missed ``at`` times or more (most first)."""
-        misses, self._misses = self._misses, {}
+        """Give a branch to each shape that has missed ``at`` times or more, most first.
+
+        Misses add up across calls (a digest asked after every few events still learns), for at
+        most ``_MAX_MISSES`` shapes at a time."""
+        misses = self._misses
         known = {id(keys) for keys, _ in self._shapes}
         added = False
-        for count, row in sorted(misses.values(), key=lambda m: -m[0]):
-            if len(self._shapes) >= MAX_BRANCHES or count < at:
+        ready = [(m[0], i) for i, m in misses.items() if m[0] >= at]  # in order of first miss
+        for _count, i in sorted(ready, key=lambda c: -c[0]):
+            row = misses.pop(i)[1]
+            if len(self._shapes) >= MAX_BRANCHES:
                 break
             if id(row[3]) in known:
                 continue
@@ -206,6 +213,8 @@ class LineEncoder:
             if sig is not None:
                 self._shapes.append((row[3], sig))
                 added = True
+        if len(misses) > _MAX_MISSES or len(self._shapes) >= MAX_BRANCHES:
+            misses.clear()
         return added
 
     def _build(self) -> None:
@@ -246,7 +255,6 @@ class LineEncoder:
             text = self._redo(rows, out)
         if self._misses and self._learn(LEARN_AT):
             self._build()
-        self._misses.clear()
         return text
 
     def _redo(self, rows: list[Row], fast: list[str]) -> str:

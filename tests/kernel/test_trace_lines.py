@@ -175,3 +175,17 @@ def test_a_trace_digest_uses_its_encoder_and_equals_the_reference() -> None:
     copied = Trace.__new__(Trace)
     copied.__setstate__(trace.__getstate__())
     assert copied.digest() == world.digest()
+
+
+def test_misses_add_up_across_small_calls() -> None:
+    """A digest asked after every few events still gives the frequent shapes their branches."""
+    rows = [plain_row(SHAPES[i % 2], i) for i in range(4 * LEARN_AT)]
+    enc = LineEncoder(_row_line)
+    assert chunks(enc, rows, 3) == reference(rows)
+    assert {keys for keys, _ in enc._shapes} == {A, B}
+    trace = Trace()
+    for i in range(4 * LEARN_AT):
+        trace.append_row(plain_row(A, i))
+        trace.digest()
+    assert [keys for keys, _ in trace._encoder._shapes] == [A]
+    assert trace.digest() == reference_digest(trace)
