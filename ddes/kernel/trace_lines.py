@@ -194,15 +194,15 @@ class LineEncoder:
         else:
             seen[0] += 1
 
-    def _learn(self, at: int) -> bool:
-        """Give a branch to each shape that has missed ``at`` times or more, most first.
+    def _learn(self) -> bool:
+        """Give a branch to each shape that has missed ``LEARN_AT`` times or more, most first.
 
         Misses add up across calls (a digest asked after every few events still learns), for at
         most ``_MAX_MISSES`` shapes at a time."""
         misses = self._misses
         known = {id(keys) for keys, _ in self._shapes}
         added = False
-        ready = [(m[0], i) for i, m in misses.items() if m[0] >= at]  # in order of first miss
+        ready = [(m[0], i) for i, m in misses.items() if m[0] >= LEARN_AT]  # in order of first miss
         for _count, i in sorted(ready, key=lambda c: -c[0]):
             row = misses.pop(i)[1]
             if len(self._shapes) >= MAX_BRANCHES:
@@ -242,7 +242,7 @@ class LineEncoder:
                 keys = row[3]
                 if type(keys) is tuple:
                     self._miss(keys, row)
-            self._learn(LEARN_AT)
+            self._learn()
             self._build()
         assert self._loop is not None
         out, marks = self._loop(rows, self._miss, self._fallback)
@@ -253,7 +253,7 @@ class LineEncoder:
         rest = text.encode("utf-8", "surrogatepass").translate(None, _OTHER_BYTES)
         if len(rest) != marks + len(out):
             text = self._redo(rows, out)
-        if self._misses and self._learn(LEARN_AT):
+        if self._misses and self._learn():
             self._build()
         return text
 
