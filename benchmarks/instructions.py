@@ -29,6 +29,7 @@ Needs valgrind (Debian's ``valgrind`` package) and CPython 3.11 or newer.
 
 from __future__ import annotations
 
+import argparse
 import atexit
 import json
 import os
@@ -228,25 +229,28 @@ def table(rows: list[dict[str, Any]]) -> str:
 
 
 def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(
+        prog="instructions.py",
+        description="The benchmarks' comparisons in instructions counted by callgrind.")
+    parser.add_argument("words", nargs="*", metavar="WORD",
+                        help="run the cases whose name contains a WORD (default: every case)")
+    parser.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1,
+                        help="children counted at once (default: the number of CPUs)")
+    parser.add_argument("--json", action="store_true", help="JSON lines only, no table")
+    parser.add_argument("--tiny", action="store_true", help="tiny sizes (a smoke test)")
+    args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error(f"--jobs must be 1 or more, got {args.jobs}")
     if shutil.which("valgrind") is None:
         print("instructions.py needs valgrind (Debian: apt-get install valgrind)", file=sys.stderr)
         return 2
-    jobs = os.cpu_count() or 1
-    words = []
-    it = iter(argv)
-    for a in it:
-        if a in ("-j", "--jobs"):
-            jobs = int(next(it))
-        elif a == "--tiny":
-            os.environ["DDES_BENCH_TINY"] = "1"
-        elif not a.startswith("--"):
-            words.append(a)
-    names = [n for n in CASES if not words or any(w in n for w in words)]
+    if args.tiny:
+        os.environ["DDES_BENCH_TINY"] = "1"
+    names = [n for n in CASES if not args.words or any(w in n for w in args.words)]
     if not names:
-        print(f"no case matches {' '.join(words)}; cases: {', '.join(CASES)}", file=sys.stderr)
-        return 2
-    rows = measure(names, jobs)
-    if "--json" not in argv:
+        parser.error(f"no case matches {' '.join(args.words)}; cases: {', '.join(CASES)}")
+    rows = measure(names, args.jobs)
+    if not args.json:
         print()
         print(table(rows))
     return 0

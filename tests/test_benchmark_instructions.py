@@ -123,3 +123,17 @@ def test_a_real_case_runs_at_the_tiny_size(instructions: Any,
 def test_a_failing_child_raises_with_its_output(instructions: Any, work: Path) -> None:
     with pytest.raises(instructions.InstructionCountError, match="no_such_function"):
         instructions.count("work", "no_such_function", None)
+
+
+@pytest.mark.parametrize(("argv", "says"), [
+    (["nosuch"], "no case matches nosuch; cases: topic_delivery_1to1"),
+    (["-j", "0"], "--jobs must be 1 or more, got 0"),
+    (["--bogus"], "unrecognized arguments: --bogus"),
+])
+def test_bad_arguments_are_named(argv: list[str], says: str) -> None:
+    import subprocess
+
+    proc = subprocess.run([sys.executable, str(BENCH / "instructions.py"), *argv],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    assert says in proc.stderr
