@@ -161,7 +161,8 @@ fn = getattr(mod, attr)
 if args is not None:
     fn = fn(*args)
 fn()  # warm-up: not counted
-out = operator.call(fn)  # counted: callgrind collects inside operator.call only
+out = operator.call(fn)  # counted: callgrind collects inside operator.call only (toggled
+#   on entry and exit, so code under test must not call operator.call: none in ddes, SimPy, rosbags)
 print(json.dumps(getattr(mod, ops) if ops else out))
 """
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -50,6 +51,14 @@ def test_every_case_names_a_figure_and_functions_that_exist(instructions: Any) -
         if "ops" in case:
             assert isinstance(getattr(importlib.import_module(case["ddes"][0]), case["ops"]),
                               float)
+
+
+def test_nothing_measured_calls_the_counting_toggle() -> None:
+    # callgrind toggles counting on entering and leaving operator.call: a call inside the code
+    # being counted would switch it off for the rest of that call
+    for path in sorted((ROOT / "ddes").rglob("*.py")) + sorted(BENCH.glob("bench_*.py")):
+        text = path.read_text(encoding="utf-8")
+        assert not re.search(r"\boperator\.call\b|from operator import [^\n]*\bcall\b", text), path
 
 
 needs_valgrind = pytest.mark.skipif(shutil.which("valgrind") is None,
