@@ -68,7 +68,10 @@ def _loop(fn: Callable[[], None], n: int) -> Callable[[], int]:
     return run
 
 
-def _pair(name: str, msg: Message, n: int, numpy: bool = False) -> dict[str, Any]:
+def round_trips(msg: Message, numpy: bool = False) -> tuple[Callable[[], None],
+                                                              Callable[[], None], bytes]:
+    """ddes's and rosbags' serialize + deserialize of ``msg`` (in rospy's numpy_msg form with
+    ``numpy``), and its bytes; raises if the two disagree on the bytes."""
     cls = type(msg)
     if numpy:  # rospy's numpy_msg form: numeric arrays as numpy arrays, both sides
         cls = numpy_msg(cls)
@@ -85,6 +88,11 @@ def _pair(name: str, msg: Message, n: int, numpy: bool = False) -> dict[str, Any
     def rosbags_round_trip() -> None:
         _STORE.deserialize_ros1(_STORE.serialize_ros1(rb_msg, rb_type), rb_type)
 
+    return ddes_round_trip, rosbags_round_trip, data
+
+
+def _pair(name: str, msg: Message, n: int, numpy: bool = False) -> dict[str, Any]:
+    ddes_round_trip, rosbags_round_trip, data = round_trips(msg, numpy)
     c = compare(_loop(ddes_round_trip, n), _loop(rosbags_round_trip, n), repeat=7)
     return result(name, c, "msgs/s", "rosbags serialize_ros1+deserialize_ros1",
                   n=n, bytes=len(data))

@@ -90,28 +90,14 @@ CASES: dict[str, dict[str, Any]] = {
 
 
 def msg_case(which: str, side: str) -> Callable[[], int]:
-    """bench_msg's round trip of one message: ddes's or rosbags', as a counted loop."""
+    """bench_msg's round trip of one message (``bench_msg.round_trips``), as a counted loop."""
     import bench_msg as b
 
-    from ddes.msg import deserialize_message, serialize_message
-    from ddes.msg.numpy_msg import numpy_msg
-
-    n = {"string": b.size(20_000), "laserscan720_numpy": b.size(3_000)}[which]
-    msg = b._string() if which == "string" else b._laser_scan()
-    cls = type(msg)
-    if which.endswith("_numpy"):
-        cls = numpy_msg(cls)
-        msg = deserialize_message(cls, serialize_message(msg))
-    rb_type = msg._type.replace("/", "/msg/", 1)
-    store = b._STORE
-    rb_msg = store.deserialize_ros1(serialize_message(msg), rb_type)
-
-    def ddes_round_trip() -> None:
-        deserialize_message(cls, serialize_message(msg))
-
-    def rosbags_round_trip() -> None:
-        store.deserialize_ros1(store.serialize_ros1(rb_msg, rb_type), rb_type)
-
+    if which == "string":
+        msg, n, numpy = b._string(), b.size(20_000), False
+    else:  # "laserscan720_numpy"
+        msg, n, numpy = b._laser_scan(), b.size(3_000), True
+    ddes_round_trip, rosbags_round_trip, _data = b.round_trips(msg, numpy)
     return b._loop(ddes_round_trip if side == "ddes" else rosbags_round_trip, n)
 
 
@@ -131,22 +117,10 @@ def bag_case(op: str, side: str) -> Callable[[], int]:
 
 
 def digest_case(side: str) -> Callable[[], int]:
-    """bench_trace's digest of a recorded run: ddes's incremental digest or the reference form."""
-    import copy
-
+    """bench_trace's digest of a recorded run (``bench_trace.digests``): ddes's or the reference."""
     import bench_trace as b
 
-    trace = b._recorded()
-    n = len(trace)
-
-    def new() -> int:
-        copy.copy(trace).digest()  # a copy starts with nothing folded
-        return n
-
-    def old() -> int:
-        b._reference(trace)
-        return n
-
+    new, old = b.digests(b._recorded())
     return new if side == "ddes" else old
 
 
@@ -173,12 +147,12 @@ class InstructionCountError(RuntimeError):
     """A child run failed or printed no count."""
 
 
-def count(module: str, attr: str, args: list[Any] | None, ops: str | None = None,
-          env: dict[str, str] | None = None) -> tuple[int, float]:
+def count(module: str, attr: str, args: list[Any] | None,
+          ops: str | None = None) -> tuple[int, float]:
     """(instructions executed by one warm call, its operation count), counted by callgrind."""
     spec = json.dumps([module, attr, args, ops])
     code = _CHILD.format(here=str(HERE), spec=spec)
-    child_env = dict(os.environ if env is None else env)
+    child_env = dict(os.environ)
     child_env["PYTHONHASHSEED"] = "0"
     proc = subprocess.run(
         ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null",
