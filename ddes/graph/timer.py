@@ -38,7 +38,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, NoReturn
 
 from ddes.errors import DdesTypeError, DdesValueError
-from ddes.kernel.events import post
+from ddes.kernel.events import post, repost
 from ddes.time.rospy_calls import REQUIRED, arg_text, call_text, is_node_like, missing_node
 from ddes.time.rostime import Duration, Time
 from ddes.time.units import DurationLike, duration_to_ns
@@ -54,6 +54,9 @@ __all__ = ["RoscppTimer", "Timer", "TimerEvent", "rospy_timer_sleep_ns"]
 
 _NS = 1_000_000_000
 _FIRE_KEYS = ("expected", "real")
+
+
+_new_event = object.__new__
 
 
 def _new_time(ns: int) -> Time:
@@ -185,6 +188,7 @@ class Timer:
         self._alive = True
         self._kernel = not clock.is_sim
         self._fire_cb = self._fire
+        self._done_cb = self._done
         self._armed: Posted[None] | None = None
         self._trace = node.world.trace
         self._source = node.name
@@ -231,12 +235,12 @@ class Timer:
         self._armed = None
         cbq = self._cbq
         if not (cbq.free and not self.cb_active):
-            cbq.enqueue(self._run, (), self, self._done)
+            cbq.enqueue(self._run, (), self, self._done_cb)
             return
         now = ev.at_ns
         ce = self._ce
         self._started = now
-        event = TimerEvent.__new__(TimerEvent)
+        event = _new_event(TimerEvent)
         event._le = self._le
         event._lr = self._lr
         event._ce = ce
@@ -244,7 +248,7 @@ class Timer:
         event.last_duration = self._ld
         self.fires += 1
         self._trace.append_row((now, "timer.fire", self._source, _FIRE_KEYS, ce, now))
-        if not cbq.run1(self._callback, event, self, self._done):
+        if not cbq.run1(self._callback, event, self, self._done_cb):
             return  # it failed (on_done ran) or goes on as a generator (on_done at its end)
         # Finished at once: _done without the call.
         if self._oneshot or not self._alive:
@@ -261,7 +265,8 @@ class Timer:
         if now - lt > 2 * sd:
             lt = now
         self._last_time = lt
-        self._armed = post(self._env, remaining if remaining > 0 else 0, None, self._fire_cb)
+        # the wake-up that ran this is processed: re-armed, as post() would arm a new one
+        self._armed = repost(self._env, ev, remaining if remaining > 0 else 0, self._fire_cb)
 
     # -- rate.sleep() on a simulated clock ----------------------------------------------------
     def _sim_sleep(self) -> None:
@@ -302,7 +307,7 @@ class Timer:
             self._last_time = self._clock.now_ns()
         cbq = self._cbq
         if not (cbq.free and not self.cb_active):
-            cbq.enqueue(self._run, (), self, self._done)
+            cbq.enqueue(self._run, (), self, self._done_cb)
             return
         now = self._clock.now_ns()
         ce = self._ce
@@ -315,7 +320,7 @@ class Timer:
         event.last_duration = self._ld
         self.fires += 1
         self._trace.append_row((self._env.now_ns, "timer.fire", self._source, _FIRE_KEYS, ce, now))
-        if cbq.run1(self._callback, event, self, self._done):
+        if cbq.run1(self._callback, event, self, self._done_cb):
             self._done()
 
     # -- the callback -------------------------------------------------------------------------

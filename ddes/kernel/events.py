@@ -42,6 +42,7 @@ __all__ = [
     "never_yielded",
     "post",
     "queued_events",
+    "repost",
 ]
 
 _V = TypeVar("_V")
@@ -240,6 +241,24 @@ def post(env: simpy.Environment, delay: int, value: _V,
     ev._value = ev.payload = value
     ev._delay = delay
     ev._ok = True
+    at: int = env._now + delay  # type: ignore[assignment]  # every delay ddes schedules is an int
+    ev.at_ns = at
+    heappush(env._queue, (at, NORMAL, next(env._eid), ev))
+    return ev
+
+
+def repost(env: simpy.Environment, ev: Posted[_V], delay: int,
+           callback: Callable[[Posted[_V]], object]) -> Posted[_V]:
+    """Schedule ``ev`` again: ``callback(ev)`` after ``delay`` ns (>= 0), its payload kept.
+
+    For an event of :func:`post` that the kernel has *processed* (its callbacks
+    ran; it is in the queue no more), from one of its own callbacks: a periodic
+    wake-up re-arms the event it was woken by instead of allocating a new one.
+    The queue entry is the one :func:`post` would push (same time, priority and
+    next id), so the schedule, and every trace, are what ``post`` gives.
+    """
+    ev.callbacks = [callback]  # type: ignore[list-item]  # SimPy ignores what callbacks return
+    ev._delay = delay
     at: int = env._now + delay  # type: ignore[assignment]  # every delay ddes schedules is an int
     ev.at_ns = at
     heappush(env._queue, (at, NORMAL, next(env._eid), ev))

@@ -10,7 +10,7 @@ import simpy
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ddes.kernel.events import NsEnvironment, Posted, is_pending, post, queued_events
+from ddes.kernel.events import NsEnvironment, Posted, is_pending, post, queued_events, repost
 
 
 def _scenario(env: simpy.Environment, delays: list[int], log: list[tuple[int, str]]) -> None:
@@ -71,3 +71,34 @@ def test_posted_events_carry_their_payload_and_time() -> None:
     assert queued_events(env) == 1
     env.run()
     assert got == [("x", 9, 9)] and queued_events(env) == 0
+
+
+def test_repost_schedules_a_processed_event_again_where_post_would() -> None:
+    env = NsEnvironment()
+    seen: list[tuple[int, object, int]] = []
+
+    def again(e: Posted[str]) -> None:
+        seen.append((env.now_ns, e.payload, id(e)))
+        if sum(1 for _, q, _ in seen if q == "p") < 3:
+            assert repost(env, e, 4, again) is e
+
+    first = post(env, 2, "p", again)
+    # due at 6 like the first repost, scheduled earlier: it goes first, as with post()
+    env.timeout(6).callbacks.append(lambda _e: seen.append((env.now_ns, "t", 0)))
+    env.run()
+    assert [(t, p) for t, p, _ in seen] == [(2, "p"), (6, "t"), (6, "p"), (10, "p")]
+    assert {i for _, p, i in seen if p == "p"} == {id(first)}
+    assert first.at_ns == 10 and first.value == "p" and queued_events(env) == 0
+
+
+def test_a_periodic_timer_rearms_the_event_that_woke_it() -> None:
+    import ddes
+
+    world = ddes.World()
+    fired: list[int] = []
+    timer = world.create_node("n").create_timer(0.001, lambda ev: fired.append(ev.current_real.to_nsec()))
+    world.run(until=0.0035)
+    armed = timer._armed
+    world.run(until=0.0065)
+    assert fired == [1_000_000 * k for k in range(1, 7)]
+    assert timer._armed is armed and armed is not None and armed.at_ns == 7_000_000
