@@ -227,6 +227,7 @@ def parse(source: str, *, functions: Iterable[Callable[..., Any]] = (),
     try:
         with warnings.catch_warnings():  # the user's text, not ddes's: no SyntaxWarning on stderr
             warnings.simplefilter("ignore", SyntaxWarning)
+            warnings.simplefilter("ignore", DeprecationWarning)  # invalid escapes, Python 3.11
             tree = ast.parse(source.strip(), mode="eval")
     except SyntaxError as exc:
         raise DdesValueError(f"SyntaxError: {exc.msg} (column {exc.offset}): {source!r} is "

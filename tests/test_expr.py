@@ -274,3 +274,13 @@ def test_fuzz_structured_expressions(source: str) -> None:
 @given(st.text(alphabet="0123456789*+-/%<>=()[]{}.,:'\"_ abmtxfgi\\\n\0", max_size=60))
 def test_fuzz_random_text(source: str) -> None:
     _bounded(source)
+
+
+def test_an_invalid_escape_in_the_text_warns_nothing() -> None:
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        expr = parse('"a\\[" + "b"')  # Python 3.11 warns DeprecationWarning, 3.12+ SyntaxWarning
+    assert caught == []
+    assert expr.source == '"a\\[" + "b"'
