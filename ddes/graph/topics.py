@@ -66,6 +66,7 @@ __all__ = [
 ]
 
 _PUB_KEYS = ("topic", "seq", "connections", "data")
+_new = object.__new__  # a message class defines no __new__ of its own
 _DELIVER_KEYS = ("topic", "publisher", "seq")
 _DROP_KEYS = ("topic", "publisher", "seq", "reason")
 
@@ -461,7 +462,7 @@ class Subscriber(Generic[_C_co]):
             msg: MessageLike = AnyMsg(data, dict(conn.header))
         else:
             cls = self.data_class
-            msg = cls.__new__(cls)._deserialize_from(data)
+            msg = _new(cls)._deserialize_from(data)
             msg._connection_header = conn.header  # type: ignore[attr-defined]  # as rospy sets it
         cbq = self._cbq
         if self._internal or (cbq.free and not self._queue and not self.cb_active):

@@ -46,7 +46,6 @@ __all__ = [
 ]
 
 _V = TypeVar("_V")
-_new_timeout = Timeout.__new__
 _V_co = TypeVar("_V_co", covariant=True)
 
 
@@ -84,7 +83,7 @@ class NsEnvironment(simpy.Environment):
         """``simpy.Timeout(env, delay, value)``; integer delays take the inlined path."""
         if type(delay) is not int or delay < 0:
             return Timeout(self, delay, value)
-        ev: Timeout = _new_timeout(Timeout)
+        ev: Timeout = _new_posted(Posted)  # one class for timeouts and posts: see Posted
         ev.env = self
         ev.callbacks = []
         ev._value = value
@@ -222,11 +221,23 @@ class Posted(Timeout, Generic[_V_co]):
 
     Its callbacks read ``ev.payload`` and ``ev.at_ns`` — attribute loads, no
     property call — on the hot paths (deliveries, timer fires, service hops).
+
+    :meth:`NsEnvironment.timeout` makes its timeouts of this class too (without
+    ``payload`` and ``at_ns``): the kernel's hottest lines (``event.callbacks``
+    in :meth:`~NsEnvironment.step`, ``event._value`` in a process's resume) then
+    see one class, which CPython 3.11 specializes, where a mix of two classes
+    takes the generic attribute lookup on every event.  Its ``repr`` is a
+    Timeout's.
     """
 
     __slots__ = ("payload", "at_ns")
     payload: _V_co  # written once, by post()
     at_ns: int
+
+    def _desc(self) -> str:
+        """``Timeout(delay[, value=value])``, as SimPy writes a Timeout (which this is)."""
+        value = "" if self._value is None else f", value={self.value}"
+        return f"Timeout({self._delay}{value})"
 
 
 _new_posted = Posted.__new__

@@ -102,3 +102,16 @@ def test_a_periodic_timer_rearms_the_event_that_woke_it() -> None:
     world.run(until=0.0065)
     assert fired == [1_000_000 * k for k in range(1, 7)]
     assert timer._armed is armed and armed is not None and armed.at_ns == 7_000_000
+
+
+def test_timeouts_are_of_the_posted_class_and_print_as_simpy_timeouts() -> None:
+    env = NsEnvironment()
+    t = env.timeout(5, value="v")
+    p = post(env, 3, None, lambda _e: None)
+    # one class for the kernel's two common events (CPython specializes attribute access to it)
+    assert type(t) is type(p) is Posted and isinstance(t, simpy.Timeout)
+    assert repr(t).startswith("<Timeout(5, value=v) object at 0x")
+    assert repr(p).startswith("<Timeout(3) object at 0x")
+    assert repr(env.timeout(1.5)).startswith("<Timeout(1.5) object at 0x")  # SimPy's own
+    env.run()
+    assert t.value == "v" and env.now_ns == 5
