@@ -127,7 +127,11 @@ def digest_case(side: str) -> Callable[[], int]:
 # -- running ------------------------------------------------------------------------------------
 
 _CHILD = r"""
-import importlib, json, operator, sys
+import importlib, json, operator, signal, sys
+# World.run's wall-budget watchdog arms SIGALRM and, when the run ends, disarms it and puts
+# back the default action (end the process).  Valgrind delivers a signal late, so an alarm
+# due just before the disarm could arrive after it and end the child: ignored instead.
+signal.signal(signal.SIGALRM, signal.SIG_IGN)
 sys.path.insert(0, {here!r})
 module, attr, args, ops = json.loads({spec!r})
 mod = importlib.import_module(module)
