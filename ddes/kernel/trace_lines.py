@@ -33,6 +33,14 @@ from hashlib import sha256
 from json.encoder import encode_basestring
 from typing import Any
 
+try:  # CPython's own sha256, without OpenSSL: less set-up per call, more time per byte
+    from _sha256 import sha256 as _sha256_small  # type: ignore[import-not-found,unused-ignore]  # 3.11
+except ImportError:  # pragma: no cover - Python 3.12+, or a build without it
+    try:
+        from _sha2 import sha256 as _sha256_small  # type: ignore[import-not-found,unused-ignore]
+    except ImportError:
+        _sha256_small = sha256
+
 __all__ = ["LineEncoder"]
 
 Row = tuple[Any, ...]
@@ -43,6 +51,9 @@ MAX_BRANCHES = 12
 LEARN_AT = 16
 #: Rows of the first chunk looked at to find its shapes before the first loop is generated.
 PRESCAN = 1024
+#: Bytes values shorter than this are hashed by CPython's own sha256, longer ones by OpenSSL's
+#: (the same digest): a small message's bytes cost less to hash there, a large one's more.
+SMALL_BYTES = 64
 
 #: Every byte but the quote, the backslash and the control characters (the newline among them).
 _OTHER_BYTES = bytes(i for i in range(0x20, 0x100) if i not in (0x22, 0x5C))
@@ -118,7 +129,8 @@ def _branch(n: int, keys: tuple[str, ...], sig: tuple[str, ...]) -> list[str]:
         if code == _ESCAPED:
             return f"f'{{e_{name}}}'"
         if code == _BYTES:
-            return repr('"sha256:') + f" f'{{H({name}).hexdigest()}}' " + repr('"')
+            return (repr('"sha256:') + f" f'{{(HS if L({name}) < {SMALL_BYTES} else H)({name})"
+                    ".hexdigest()}' " + repr('"'))
         return f"f'{{{name}}}'"
 
     codes = dict(zip(names, sig))
@@ -155,7 +167,8 @@ def _generate(shapes: list[tuple[tuple[str, ...], tuple[str, ...]]]) -> str:
         body += ["if T(k) is tuple:", "    miss(k, r)"]
     args = "".join(f", K{n}=None" for n in range(len(shapes)))
     return "\n".join([
-        f"def loop(rows, miss, LINE, T=type, S=None, H=None, TI=int, TS=str, TF=float, TB=bytes{args}):",
+        f"def loop(rows, miss, LINE, T=type, S=None, H=None, HS=None, L=len, TI=int, TS=str, "
+        f"TF=float, TB=bytes{args}):",
         "    out = []",
         "    a = out.append",
         "    q = 0",
@@ -228,8 +241,8 @@ class LineEncoder:
         exec(code, space)  # noqa: S102 - generated here; keys enter only through repr()
         loop = space["loop"]
         defaults = list(loop.__defaults__)
-        defaults[1:3] = [encode_basestring, sha256]
-        defaults[7:] = [keys for keys, _ in self._shapes]  # after T, S, H and the four types
+        defaults[1:4] = [encode_basestring, sha256, _sha256_small]
+        defaults[9:] = [keys for keys, _ in self._shapes]  # after T, S, H, HS, L, the four types
         loop.__defaults__ = tuple(defaults)
         self._loop = loop
 

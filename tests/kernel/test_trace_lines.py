@@ -139,7 +139,7 @@ def test_at_most_max_branches_shapes() -> None:
 
 text = st.text(st.characters(codec="utf-8"), max_size=6) | st.sampled_from(
     ["/a", 'q"', "\\", "\n", "\x00", "\x1f", "\u2028", "<X at 0x1f>"])
-value = st.one_of(text, st.integers(), st.floats(), st.binary(max_size=8), st.booleans(),
+value = st.one_of(text, st.integers(), st.floats(), st.binary(max_size=100), st.booleans(),
                   st.none(), st.just(Level.WARN), st.builds(Name, text))
 
 
@@ -189,3 +189,14 @@ def test_misses_add_up_across_small_calls() -> None:
         trace.digest()
     assert [keys for keys, _ in trace._encoder._shapes] == [A]
     assert trace.digest() == reference_digest(trace)
+
+
+def test_small_and_large_bytes_hash_alike_on_either_side_of_small_bytes() -> None:
+    from ddes.kernel.trace_lines import SMALL_BYTES
+
+    sizes = [0, 1, SMALL_BYTES - 1, SMALL_BYTES, SMALL_BYTES + 1, 4000]
+    rows = [(i, "topic.publish", "/talker", B, "/chatter", i, 1, bytes(range(7)) * (n // 7)
+             + bytes(n % 7)) for i, n in enumerate(sizes * 20)]
+    enc = LineEncoder(_row_line)
+    assert chunks(enc, rows, 40) == reference(rows)
+    assert dict(enc._shapes)[B] == ("i", "s", "s", "s", "i", "i", "b")  # the branch wrote them
