@@ -28,18 +28,23 @@ checks it with hypothesis, also against rows built to fool the check).
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Callable
 from hashlib import sha256
 from json.encoder import encode_basestring
 from typing import Any
 
-try:  # CPython's own sha256, without OpenSSL: less set-up per call, more time per byte
-    from _sha256 import sha256 as _sha256_small  # type: ignore[import-not-found,unused-ignore]  # 3.11
-except ImportError:  # pragma: no cover - Python 3.12+, or a build without it
+
+def _builtin_sha256() -> Any:
+    """CPython's own sha256 constructor (``_sha256`` in 3.11, ``_sha2`` after), as hashlib
+    finds it without OpenSSL: less set-up per call, more time per byte; OpenSSL's if absent."""
     try:
-        from _sha2 import sha256 as _sha256_small  # type: ignore[import-not-found,unused-ignore]
-    except ImportError:
-        _sha256_small = sha256
+        return getattr(hashlib, "__get_builtin_constructor")("sha256")
+    except (AttributeError, ValueError):  # pragma: no cover - another Python, or no builtin
+        return sha256
+
+
+_sha256_small = _builtin_sha256()
 
 __all__ = ["LineEncoder"]
 
