@@ -35,7 +35,7 @@ from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
-from ddes.kernel.trace_lines import LineEncoder
+from ddes.kernel.trace_lines import LineEncoder, wire_field
 from ddes.time.units import HasNsec
 
 __all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
@@ -196,9 +196,39 @@ def _row_encoder(keys: tuple[Any, ...]) -> _RowEnc:
     enc = _make_encoder(keys, row_form=True)
     if enc is None:
         enc = _slow
+    wire = wire_field(keys)
+    if wire is not None:
+        enc = _wire_encoder(enc, *wire)
     if len(_BY_ID) < 4096:
         _BY_ID[id(keys)] = (keys, enc)
     return enc
+
+
+def _wire_encoder(enc: _RowEnc, index: int, decode: Callable[[bytes], object],
+                  plain: tuple[str, ...]) -> _RowEnc:
+    """The encoder of a :func:`~ddes.kernel.trace_lines.wire_keys` shape: ``enc`` of the row
+    with its wire bytes decoded (the line of the row that held the message itself)."""
+    at = 4 + index
+
+    def wire_enc(r: Row) -> str:
+        if len(r) <= at:
+            return enc(r)
+        return enc((*r[:3], plain, *r[4:at], decode(r[at]), *r[at + 1:]))
+
+    return wire_enc
+
+
+def _decoded(raw: Row) -> Row:
+    """``raw`` with the wire bytes of a :func:`~ddes.kernel.trace_lines.wire_keys` row decoded
+    (the row as it would be had it held the message); any other row as it is."""
+    keys = raw[3]
+    if type(keys) is not tuple:
+        return raw
+    wire = wire_field(keys)
+    if wire is None or len(raw) <= 4 + wire[0]:
+        return raw
+    at = 4 + wire[0]
+    return (*raw[:3], wire[2], *raw[4:at], wire[1](raw[at]), *raw[at + 1:])
 
 
 def _line(raw: Row) -> str:
@@ -259,7 +289,12 @@ def _event(raw: Row) -> TraceEvent:
     # (t, kind, source, keys, *values) from append_row(); keys is a tuple.
     if len(raw) == 4 and type(raw[3]) is not tuple:
         return TraceEvent(*raw)
-    return TraceEvent(raw[0], raw[1], raw[2], dict(zip(raw[3], raw[4:])))
+    keys = raw[3]
+    details = dict(zip(keys, raw[4:]))
+    wire = wire_field(keys)
+    if wire is not None and len(raw) > 4 + wire[0]:
+        details[keys[wire[0]]] = wire[1](raw[4 + wire[0]])
+    return TraceEvent(raw[0], raw[1], raw[2], details)
 
 
 def _same(have: object, want: object) -> bool:
@@ -445,7 +480,11 @@ class Trace:
                 "trace.bound(...) evicts, or keep the trace unbounded")
         skip = {"append_row", "record_fast", "_notify", "_listeners", "_decisions", "_fast",
                 "_hash", "_folded", "_spill", "_encoder"}
-        return {name: getattr(self, name) for name in self.__slots__ if name not in skip}
+        state = {name: getattr(self, name) for name in self.__slots__ if name not in skip}
+        # A wire_keys row is known by its key tuple's identity, which a copy does not keep:
+        # the copy holds the decoded message instead (the same events, lines and digest).
+        state["_raw"] = [_decoded(raw) for raw in self._raw]
+        return state
 
     def __setstate__(self, state: dict[str, object]) -> None:
         for name, value in state.items():
@@ -822,6 +861,11 @@ class Trace:
                     indexes = hit[1]
                     if indexes is None:
                         out.append(_event(raw))  # raises as dict(zip()) does
+                        continue
+                    if wire_field(keys) is not None:  # a message held as its wire bytes
+                        ev = _event(raw)
+                        if _match_details(ev.details, details):
+                            out.append(ev)
                         continue
                     if not all(_same(raw[i + 4] if i >= 0 else _MISSING, w)
                                for i, (_, w) in zip(indexes, want)):

@@ -34,6 +34,8 @@ from hashlib import sha256
 from json.encoder import encode_basestring
 from typing import Any
 
+from ddes.errors import DdesValueError
+
 
 def _builtin_sha256() -> Any:
     """CPython's own sha256 constructor (``_sha256`` in 3.11, ``_sha2`` after), as hashlib
@@ -46,7 +48,7 @@ def _builtin_sha256() -> Any:
 
 _sha256_small = _builtin_sha256()
 
-__all__ = ["LineEncoder"]
+__all__ = ["LineEncoder", "wire_field", "wire_keys"]
 
 Row = tuple[Any, ...]
 
@@ -74,6 +76,41 @@ _MAX_COMPILED = 256
 _MAX_MISSES = 4096
 
 
+#: Key tuples, by identity, whose rows hold a message's wire bytes in one field (see
+#: :func:`wire_keys`): ``id(keys) -> (keys, index, decode, plain)``, ``plain`` the tuple it was
+#: made from.  Each entry keeps its tuple alive, so its id stays its own; a cache of what the
+#: program's classes are, not state of a run.
+_WIRE: dict[int, tuple[tuple[str, ...], int, Callable[[bytes], object], tuple[str, ...]]] = {}
+
+
+def wire_keys(keys: tuple[str, ...], field: str, decode: Callable[[bytes], object]) -> tuple[str, ...]:
+    """A key tuple equal to ``keys`` whose rows hold, as ``field``, a message's wire bytes.
+
+    ``Trace.append_row((t, kind, source, wkeys, ..., data, ...))`` with the returned tuple
+    stores ``data`` (bytes) where a message would be; every reader of the trace (events,
+    queries, lines and the digest, copies and pickles) sees ``decode(data)`` instead, read
+    when looked at.  A row of only bytes, strs and ints is one the garbage collector stops
+    tracking, where a row holding a message object would be traversed by every collection of
+    its generation.  The tuple is a new object, recognised by identity: a row built with an
+    equal tuple of the caller's own holds what it holds.
+    """
+    if field not in keys:
+        raise DdesValueError(f"wire_keys: {field!r} is not one of the keys {keys!r}; name the "
+                             "key whose value holds the wire bytes")
+    out = tuple(list(keys))
+    _WIRE[id(out)] = (out, keys.index(field), decode, keys)
+    return out
+
+
+def wire_field(keys: object) -> tuple[int, Callable[[bytes], object], tuple[str, ...]] | None:
+    """``(index, decode, plain)`` when ``keys`` is a tuple made by :func:`wire_keys` (``plain``
+    the tuple it was made from), else None."""
+    entry = _WIRE.get(id(keys))
+    if entry is None or entry[0] is not keys:
+        return None
+    return entry[1], entry[2], entry[3]
+
+
 def _code(t: object) -> str | None:
     tp = type(t)
     if tp is str:
@@ -97,6 +134,8 @@ def signature(row: Row) -> tuple[str, ...] | None:
     cannot have a branch (keys not distinct plain strs, or a value of another type)."""
     keys = row[3]
     if type(keys) is not tuple or len(row) != 4 + len(keys) or type(row[0]) is not int:
+        return None
+    if id(keys) in _WIRE:  # its bytes stand for a message: the reference path decodes them
         return None
     if not all(type(k) is str and _plain(k) for k in keys) or len(set(keys)) != len(keys):
         return None

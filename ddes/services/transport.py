@@ -21,10 +21,10 @@ latency later (``"transport error completing service call: ..."``).
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ddes.errors import DdesError, DdesTypeError, ROSSerializationException
+from ddes.kernel.trace_lines import wire_keys
 from ddes.services.convert import args_kwds_to_request
 from ddes.services.network import network_of
 
@@ -135,8 +135,9 @@ class PendingCall:
             stats.latency_max_ns = latency
         trace = world.trace
         if trace.enabled:
-            trace.append_row((now, "service.response", proxy.node.name, _RESPONSE_KEYS,
-                               proxy.resolved_name, self.id, latency, _snapshot(response, data)))
+            trace.append_row((now, "service.response", proxy.node.name,
+                              _wire_keys(_RESPONSE_KEYS, "response", cls), proxy.resolved_name,
+                              self.id, latency, data))
         else:
             trace.append_row((now, "service.response", proxy.node.name, _RESPONSE_KEYS))
         self.event.succeed(response)
@@ -188,68 +189,36 @@ def open_call(proxy: ServiceProxy, args: tuple[object, ...], kwds: dict[str, obj
     call = PendingCall(proxy, data, world.env.event(), stats)
     trace = world.trace
     if trace.enabled:
-        trace.append_row((call.t0, "service.call", node.name, _CALL_KEYS, proxy.resolved_name,
-                          call.id, proxy.persistent, _snapshot(request, data)))
+        trace.append_row((call.t0, "service.call", node.name, _wire_keys(_CALL_KEYS, "request", cls),
+                          proxy.resolved_name, call.id, proxy.persistent, data))
     else:
         trace.append_row((call.t0, "service.call", node.name, _CALL_KEYS))
     proxy._pending[call.id] = call
     return call
 
 
-def _snapshot(msg: Message, data: bytes) -> Message:
-    """An independent copy of ``msg`` for the trace (what went over the wire).
+def _wire_keys(keys: tuple[str, ...], field: str, cls: type[Message]) -> tuple[str, ...]:
+    """``keys`` for a row that holds ``field`` as the wire bytes of a ``cls`` message.
 
-    It is read from ``data`` only when something looks at it (a digest, a
-    query of the trace): until then it holds the wire bytes.
+    The trace reads the message from the bytes only when something looks at it (a digest,
+    a query), each time as a new, independent copy of what went over the wire; until then
+    the row holds bytes, strs and ints only, which the garbage collector stops tracking
+    (:func:`ddes.kernel.trace_lines.wire_keys`).
     """
-    cls = type(msg)
-    made = _SNAPSHOT_CLASSES.get(cls)
+    cache = _WIRE_KEYS.get(keys)
+    if cache is None:
+        cache = _WIRE_KEYS[keys] = {}
+    made = cache.get(cls)
     if made is None:
-        made = _SNAPSHOT_CLASSES[cls] = _snapshot_class(cls)
-    snap = _new(made[0])
-    made[1](snap, data)
-    return snap
+        fill = cls._deserialize_from
+
+        def decode(data: bytes) -> Message:
+            return fill(_new(cls), data)
+
+        made = cache[cls] = wire_keys(keys, field, decode)
+    return made
 
 
-#: Per message class: its snapshot class and the setter of the snapshot's wire bytes.
-_SNAPSHOT_CLASSES: dict[type[Message], tuple[type[Message], Callable[[Message, bytes], None]]] = {}
+#: Per key tuple, per message class: its wire_keys tuple (a cache of what the classes are).
+_WIRE_KEYS: dict[tuple[str, ...], dict[type[Message], tuple[str, ...]]] = {}
 _new = object.__new__
-_WIRE = "_ddes_wire"
-
-
-def _snapshot_class(cls: type[Message]) -> tuple[type[Message], Callable[[Message, bytes], None]]:
-    """A subclass of ``cls`` whose instances hold wire bytes until a field is read or set.
-
-    The first read or write of any attribute fills every field from the bytes
-    (``cls._deserialize_from``), so it behaves as the message itself: equal to
-    it, the same fields, ``__slots__``, ``_type``, name and canonical trace form.
-    """
-    meta: Any = type(cls)
-    snap: type[Message] = meta(cls.__name__, (cls,), {
-        "__slots__": (_WIRE,), "__module__": cls.__module__, "__qualname__": cls.__qualname__,
-        "__doc__": cls.__doc__})
-    wire = snap.__dict__[_WIRE]
-    get_wire, drop_wire = wire.__get__, wire.__delete__
-    fill = cls._deserialize_from
-    set_attr, get_attr = object.__setattr__, object.__getattribute__
-
-    def read(self: Message) -> None:
-        try:
-            data = get_wire(self, snap)
-        except AttributeError:
-            return  # read already (or a copy, which never held bytes)
-        drop_wire(self)
-        fill(self, data)
-
-    def __getattr__(self: Message, name: str) -> object:
-        read(self)
-        return get_attr(self, name)
-
-    def __setattr__(self: Message, name: str, value: object) -> None:
-        read(self)
-        set_attr(self, name, value)
-
-    setattr(snap, "__getattr__", __getattr__)  # noqa: B010 - set on the class
-    setattr(snap, "__setattr__", __setattr__)  # noqa: B010
-    snap.__slots__ = cls.__slots__  # what equality, copies and the trace's encoder walk
-    return snap, wire.__set__

@@ -17,7 +17,14 @@ from hypothesis import strategies as st
 
 import ddes
 from ddes.kernel.trace import Trace, _row_line
-from ddes.kernel.trace_lines import LEARN_AT, MAX_BRANCHES, LineEncoder, signature
+from ddes.kernel.trace_lines import (
+    LEARN_AT,
+    MAX_BRANCHES,
+    LineEncoder,
+    signature,
+    wire_field,
+    wire_keys,
+)
 
 from .test_trace_scale import reference_digest
 
@@ -200,3 +207,25 @@ def test_small_and_large_bytes_hash_alike_on_either_side_of_small_bytes() -> Non
     enc = LineEncoder(_row_line)
     assert chunks(enc, rows, 40) == reference(rows)
     assert dict(enc._shapes)[B] == ("i", "s", "s", "s", "i", "i", "b")  # the branch wrote them
+
+
+def test_wire_rows_get_no_branch_and_read_as_the_rows_that_held_the_value() -> None:
+    keys = ("topic", "data")
+    wire = wire_keys(keys, "data", lambda b: String(data=b.decode("utf-8")))
+    assert wire == keys and wire is not keys and wire_field(wire) is not None
+    assert wire_field(keys) is None and wire_field(tuple(list(wire))) is None
+    fast, plain = Trace(), Trace()
+    for i in range(3 * LEARN_AT):
+        text = f"msg {i}" if i % 7 else 'a "quoted" \\ one'
+        fast.append_row((i, "topic.publish", "/n", wire, "/t", text.encode("utf-8")))
+        plain.append_row((i, "topic.publish", "/n", keys, "/t", String(data=text)))
+    assert signature(fast._raw[0]) is None
+    assert list(fast.lines()) == list(plain.lines())
+    assert fast.digest() == plain.digest() == reference_digest(plain)
+    assert not any(k is wire for k, _ in fast._encoder._shapes)
+    assert fast[5].details == {"topic": "/t", "data": String(data="msg 5")}
+
+
+def test_wire_keys_must_name_one_of_the_keys() -> None:
+    with pytest.raises(ddes.errors.DdesValueError, match="'payload' is not one of the keys"):
+        wire_keys(("topic", "data"), "payload", bytes)
