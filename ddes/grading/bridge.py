@@ -390,7 +390,10 @@ class _ProxyService(Service):
     def _never(_request: Any) -> None:
         raise AssertionError("a proxy service is never served in the grader")
 
-    def _on_request(self, conn: Any, call: Any) -> None:
+    def _on_request(self, ev: Any) -> None:
+        conn, call = ev.payload
+        if 0 <= call.gave_up_at < call.sent_at:
+            return  # the client gave up before the request was sent
         if conn.server_gone:
             return
         world = self.world

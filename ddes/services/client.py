@@ -41,7 +41,13 @@ from ddes.kernel.events import Posted, post
 from ddes.services.convert import check_service_class
 from ddes.services.network import network_of
 from ddes.services.server import check_service_name
-from ddes.services.transport import PendingCall, ServiceConnection, open_call
+from ddes.services.transport import (
+    PendingCall,
+    ServiceConnection,
+    open_call,
+    request_keys,
+    response_keys,
+)
 from ddes.services.waiting import check_nonzero_timeout, wait_for_service, wait_for_service_ns
 from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 from ddes.time.sleep import must_yield
@@ -107,6 +113,9 @@ class ServiceProxy:
         self._pending: dict[int, PendingCall] = {}
         self._field_timeout = "timeout" in self.request_class.__slots__
         self._stats: ServiceStats | None = None
+        #: Key tuples of this proxy's service.call and service.response rows (wire bytes).
+        self._call_keys = request_keys(self.request_class)
+        self._response_keys = response_keys(self.response_class)
         node.add_entity(self)
 
     # -- calling --------------------------------------------------------------------------
@@ -163,7 +172,7 @@ class ServiceProxy:
                 if at < conn.last_request:
                     at = conn.last_request
                 conn.last_request = at
-                post(world.env, at - now, (conn, call), self._on_request)
+                post(world.env, at - now, (conn, call), conn.server._on_request)
             return call
         entry = world.master.lookup_service(name)
         if entry is None:
@@ -220,13 +229,7 @@ class ServiceProxy:
         if at < conn.last_request:
             at = conn.last_request
         conn.last_request = at
-        post(self.world.env, at - now, (conn, call), self._on_request)
-
-    def _on_request(self, ev: Posted[tuple[ServiceConnection, PendingCall]]) -> None:
-        conn, call = ev.payload
-        if 0 <= call.gave_up_at < call.sent_at:
-            return  # the client gave up before the request was sent
-        conn.server._on_request(conn, call)
+        post(self.world.env, at - now, (conn, call), conn.server._on_request)
 
     def _send_response(self, conn: ServiceConnection, call: PendingCall, ok: bool,
                        payload: bytes | str) -> None:

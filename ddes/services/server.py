@@ -52,6 +52,7 @@ if TYPE_CHECKING:
     import simpy
 
     from ddes.graph.node import Node
+    from ddes.kernel.events import Posted
     from ddes.msg.message import Message, ServiceDefinition
 
 __all__ = ["ErrorHandler", "Handler", "Service"]
@@ -180,8 +181,11 @@ class Service:
         return None
 
     # -- serving ---------------------------------------------------------------------------
-    def _on_request(self, conn: ServiceConnection, call: PendingCall) -> None:
-        """A request arrived: queue it on the node's callback queue."""
+    def _on_request(self, ev: Posted[tuple[ServiceConnection, PendingCall]]) -> None:
+        """A request arrived (the client's hop): queue it on the node's callback queue."""
+        conn, call = ev.payload
+        if 0 <= call.gave_up_at < call.sent_at:
+            return  # the client gave up before the request was sent
         if conn.server_gone:
             return
         world = self.world
@@ -217,7 +221,11 @@ class Service:
             self._finish(conn, call, result, response)
             return None
         try:  # _finish for a rospy handler's value, inline
-            data = serialize(convert_return_to_response(result, self.response_class))
+            msg = convert_return_to_response(result, self.response_class)
+            try:
+                data = msg._serialize_to_bytes()
+            except Exception:  # noqa: BLE001 - serialize() raises the error that names the field
+                data = serialize(msg)
         except ServiceException as exc:
             self._send(conn, call, False, server_error_text(exc, self.style))
             return None

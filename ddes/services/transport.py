@@ -24,6 +24,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ddes.errors import DdesError, DdesTypeError, ROSSerializationException
+from ddes.kernel.events import succeed
 from ddes.kernel.trace_lines import wire_keys
 from ddes.services.convert import args_kwds_to_request
 from ddes.services.network import network_of
@@ -36,7 +37,8 @@ if TYPE_CHECKING:
     from ddes.services.network import ServiceLink, ServiceStats
     from ddes.services.server import Service
 
-__all__ = ["PendingCall", "ServiceConnection", "open_call", "serialize"]
+__all__ = ["PendingCall", "ServiceConnection", "open_call", "request_keys", "response_keys",
+           "serialize"]
 
 _CALL_KEYS = ("service", "call", "persistent", "request")
 _RESPONSE_KEYS = ("service", "call", "latency", "response")
@@ -135,12 +137,11 @@ class PendingCall:
             stats.latency_max_ns = latency
         trace = world.trace
         if trace.enabled:
-            trace.append_row((now, "service.response", proxy.node.name,
-                              _wire_keys(_RESPONSE_KEYS, "response", cls), proxy.resolved_name,
-                              self.id, latency, data))
+            trace.append_row((now, "service.response", proxy.node.name, proxy._response_keys,
+                              proxy.resolved_name, self.id, latency, data))
         else:
             trace.append_row((now, "service.response", proxy.node.name, _RESPONSE_KEYS))
-        self.event.succeed(response)
+        succeed(self.event, response)
 
     def fail(self, reason: str, exc: Exception) -> None:
         """The call failed for ``reason`` (see ERROR_KINDS): trace it and raise ``exc`` in the caller."""
@@ -189,7 +190,7 @@ def open_call(proxy: ServiceProxy, args: tuple[object, ...], kwds: dict[str, obj
     call = PendingCall(proxy, data, world.env.event(), stats)
     trace = world.trace
     if trace.enabled:
-        trace.append_row((call.t0, "service.call", node.name, _wire_keys(_CALL_KEYS, "request", cls),
+        trace.append_row((call.t0, "service.call", node.name, proxy._call_keys,
                           proxy.resolved_name, call.id, proxy.persistent, data))
     else:
         trace.append_row((call.t0, "service.call", node.name, _CALL_KEYS))
@@ -217,6 +218,16 @@ def _wire_keys(keys: tuple[str, ...], field: str, cls: type[Message]) -> tuple[s
 
         made = cache[cls] = wire_keys(keys, field, decode)
     return made
+
+
+def request_keys(cls: type[Message]) -> tuple[str, ...]:
+    """The key tuple of a ``service.call`` row whose request is a ``cls`` (its wire bytes)."""
+    return _wire_keys(_CALL_KEYS, "request", cls)
+
+
+def response_keys(cls: type[Message]) -> tuple[str, ...]:
+    """The key tuple of a ``service.response`` row whose response is a ``cls`` (its wire bytes)."""
+    return _wire_keys(_RESPONSE_KEYS, "response", cls)
 
 
 #: Per key tuple, per message class: its wire_keys tuple (a cache of what the classes are).
