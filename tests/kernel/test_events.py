@@ -10,7 +10,15 @@ import simpy
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ddes.kernel.events import NsEnvironment, Posted, is_pending, post, queued_events, repost
+from ddes.kernel.events import (
+    NsEnvironment,
+    Posted,
+    is_pending,
+    post,
+    queued_events,
+    repost,
+    succeed,
+)
 
 
 def _scenario(env: simpy.Environment, delays: list[int], log: list[tuple[int, str]]) -> None:
@@ -115,3 +123,34 @@ def test_timeouts_are_of_the_posted_class_and_print_as_simpy_timeouts() -> None:
     assert repr(env.timeout(1.5)).startswith("<Timeout(1.5) object at 0x")  # SimPy's own
     env.run()
     assert t.value == "v" and env.now_ns == 5
+
+
+@given(st.lists(st.tuples(st.integers(min_value=0, max_value=5), st.booleans()), max_size=12))
+def test_succeed_and_event_order_as_simpy_s(steps: list[tuple[int, bool]]) -> None:
+    """Events made by env.event() and triggered by succeed() fire where SimPy's would."""
+    def scenario(env: simpy.Environment, trigger: Any) -> list[tuple[int, int, object]]:
+        log: list[tuple[int, int, object]] = []
+        for k, (delay, ours) in enumerate(steps):
+            ev = env.event()
+            assert is_pending(ev) and ev.callbacks == [] and not ev.triggered
+            ev.callbacks.append(lambda e, k=k: log.append((int(env.now), k, e.value)))
+
+            def fire(_e: Any, ev: Any = ev, k: int = k, ours: bool = ours) -> None:
+                log.append((int(env.now), -1 - k, None))
+                (trigger if ours else simpy.Event.succeed)(ev, k)
+            env.timeout(delay).callbacks.append(fire)
+        env.run()
+        return log
+
+    assert scenario(NsEnvironment(), succeed) == scenario(simpy.Environment(), simpy.Event.succeed)
+
+
+def test_succeed_refuses_an_event_triggered_already() -> None:
+    env = NsEnvironment()
+    ev = env.event()
+    succeed(ev, 1)
+    assert ev.triggered and ev.ok and ev.value == 1
+    with pytest.raises(RuntimeError, match="has already been triggered"):
+        succeed(ev, 2)
+    with pytest.raises(RuntimeError, match="has already been triggered"):
+        ev.succeed(2)
