@@ -35,7 +35,7 @@ from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
-from ddes.kernel.trace_lines import LineEncoder, wire_field
+from ddes.kernel.trace_lines import LineEncoder, holds_wire, wire_field
 from ddes.time.units import HasNsec
 
 __all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
@@ -483,7 +483,8 @@ class Trace:
         state = {name: getattr(self, name) for name in self.__slots__ if name not in skip}
         # A wire_keys row is known by its key tuple's identity, which a copy does not keep:
         # the copy holds the decoded message instead (the same events, lines and digest).
-        state["_raw"] = [_decoded(raw) for raw in self._raw]
+        if holds_wire(self._raw):
+            state["_raw"] = [_decoded(r) for r in self._raw]
         return state
 
     def __setstate__(self, state: dict[str, object]) -> None:

@@ -32,6 +32,7 @@ import hashlib
 from collections.abc import Callable
 from hashlib import sha256
 from json.encoder import encode_basestring
+from operator import itemgetter
 from typing import Any
 
 from ddes.errors import DdesValueError
@@ -48,7 +49,7 @@ def _builtin_sha256() -> Any:
 
 _sha256_small = _builtin_sha256()
 
-__all__ = ["LineEncoder", "wire_field", "wire_keys"]
+__all__ = ["LineEncoder", "holds_wire", "wire_field", "wire_keys"]
 
 Row = tuple[Any, ...]
 
@@ -100,6 +101,14 @@ def wire_keys(keys: tuple[str, ...], field: str, decode: Callable[[bytes], objec
     out = tuple(list(keys))
     _WIRE[id(out)] = (out, keys.index(field), decode, keys)
     return out
+
+
+def holds_wire(rows: list[Row]) -> bool:
+    """Whether any of ``rows`` was appended with a :func:`wire_keys` tuple (a scan in C)."""
+    return bool(_WIRE) and not _WIRE.keys().isdisjoint(map(id, map(_KEYS_OF, rows)))
+
+
+_KEYS_OF = itemgetter(3)
 
 
 def wire_field(keys: object) -> tuple[int, Callable[[bytes], object], tuple[str, ...]] | None:

@@ -21,6 +21,7 @@ from ddes.kernel.trace_lines import (
     LEARN_AT,
     MAX_BRANCHES,
     LineEncoder,
+    holds_wire,
     signature,
     wire_field,
     wire_keys,
@@ -220,6 +221,7 @@ def test_wire_rows_get_no_branch_and_read_as_the_rows_that_held_the_value() -> N
         fast.append_row((i, "topic.publish", "/n", wire, "/t", text.encode("utf-8")))
         plain.append_row((i, "topic.publish", "/n", keys, "/t", String(data=text)))
     assert signature(fast._raw[0]) is None
+    assert holds_wire(fast._raw) and not holds_wire(plain._raw) and not holds_wire([])
     assert list(fast.lines()) == list(plain.lines())
     assert fast.digest() == plain.digest() == reference_digest(plain)
     assert not any(k is wire for k, _ in fast._encoder._shapes)
