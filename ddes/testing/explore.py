@@ -64,6 +64,7 @@ from hypothesis import strategies as st
 from simpy.core import StopSimulation
 
 from ddes.errors import DdesTypeError, DdesValueError
+from ddes.graph.topics import Subscriber, _arrive_batch
 from ddes.testing._draws import same_draws_everywhere
 from ddes.testing._replay import Source, call_text, factory_name
 from ddes.time.units import duration_to_ns
@@ -79,6 +80,9 @@ Check = Callable[..., object]
 LATENCIES: tuple[float, ...] = (0.0, 0.0005, 0.002, 0.01, 0.05)
 _JITTERS: tuple[float, ...] = (0.0, 0.0005, 0.005)
 _CONNECT: tuple[float | None, ...] = (None, 0.0, 0.005, 0.05)
+
+
+_arrive_one = Subscriber._arrive_one
 
 
 class ExplorationFailure(AssertionError):
@@ -167,11 +171,13 @@ class TieBreaker:
         if not callbacks:
             return event
         cb = callbacks[0]
+        func = getattr(cb, "__func__", cb)
+        if func is _arrive_batch or func is _arrive_one:
+            # one publisher's connections of one latency (a list, or the one connection)
+            return event.payload[2]
         owner = getattr(cb, "__self__", None)
         if owner is not None:
             return owner
-        if getattr(cb, "__name__", "") == "_arrive_batch":
-            return event.payload[2]  # one publisher's connections of one latency: one owner
         return cb
 
     def step(self) -> None:

@@ -245,3 +245,46 @@ def test_wait_for_message(world: ddes.World) -> None:
     node.process(main())
     world.run()
     assert out == [(100, 1), (600, "timeout exceeded while waiting for message on topic /silent")]
+
+
+@pytest.mark.parametrize("kind", ["typed", "args", "any", "busy"])
+def test_a_lone_connection_arrives_as_a_batch_of_one_would(kind: str) -> None:
+    """Publisher._fanout hands a group of one connection to Subscriber._arrive_one, a larger
+    group to _arrive_batch: the listener's deliveries, drops and trace rows are the same."""
+    def run(twin: bool) -> tuple[list[Any], list[Any], Any, list[tuple[int, ...]]]:
+        world = ddes.World(5)
+        world.connect_delay = 0
+        got: list[Any] = []
+        node = world.create_node("listener")
+
+        def busy(m: Any) -> Generator[Any, Any, None]:
+            got.append((world.now, m.data))
+            yield node.sleep(0.25)  # the spinner is taken: later messages queue, some drop
+
+        if kind == "typed":
+            node.subscribe("chatter", Int32, lambda m: got.append((world.now, m.data)))
+        elif kind == "args":
+            node.subscribe("chatter", Int32, lambda m, a: got.append((world.now, m.data, a)),
+                           callback_args="x")
+        elif kind == "any":
+            node.subscribe("chatter", AnyMsg, lambda m: got.append((world.now, m._buff)))
+        else:
+            node.subscribe("chatter", Int32, busy, queue_size=2)
+        if twin:
+            world.create_node("twin").subscribe("chatter", Int32, lambda m: None)
+        pub = talker(world, hz=10, n=8)
+        world.run()
+        rows = [ev for ev in world.trace if ev.source == "/listener"]
+        stats = [(c.sent, c.received, c.delivered, c.dropped, c.lost) for c in pub.connections
+                 if c.sub.node.name == "/listener"]
+        return got, rows, pub._fanout[0][2], stats
+
+    alone, rows_alone, path_alone, stats_alone = run(False)
+    batched, rows_batched, path_batched, stats_batched = run(True)
+    assert stats_alone == stats_batched
+    assert getattr(path_alone, "__func__", None) is ddes.graph.topics.Subscriber._arrive_one
+    assert path_batched is ddes.graph.topics._arrive_batch
+    assert alone == batched and len(alone) >= 3
+    assert rows_alone == rows_batched
+    if kind == "busy":
+        assert any(ev.kind == "topic.drop" for ev in rows_alone)
