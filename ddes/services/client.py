@@ -58,7 +58,7 @@ if TYPE_CHECKING:
 
     from ddes.graph.node import Node
     from ddes.msg.message import Message, ServiceDefinition
-    from ddes.services.network import ServiceStats
+    from ddes.services.network import ServiceNetwork, ServiceStats
     from ddes.services.server import Service
 
 __all__ = ["ServiceClient", "ServiceProxy"]
@@ -113,6 +113,9 @@ class ServiceProxy:
         self._pending: dict[int, PendingCall] = {}
         self._field_timeout = "timeout" in self.request_class.__slots__
         self._stats: ServiceStats | None = None
+        self._net: ServiceNetwork | None = None
+        #: This proxy's key in its network's link cache: (service, client node).
+        self._link_key = (self.resolved_name, node.name)
         #: Key tuples of this proxy's service.call and service.response rows (wire bytes).
         self._call_keys = request_keys(self.request_class)
         self._response_keys = response_keys(self.response_class)
@@ -178,7 +181,13 @@ class ServiceProxy:
         if entry is None:
             call.fail("unavailable", ServiceException(f"service [{name}] unavailable"))
             return call
-        conn = ServiceConnection(self, entry.server, network_of(world).link(name, node.name))
+        net = self._net
+        if net is None:
+            net = self._net = network_of(world)
+        link = net._links.get(self._link_key)  # ServiceNetwork.link, its cache read inline
+        if link is None:
+            link = net.link(name, node.name)
+        conn = ServiceConnection(self, entry.server, link)
         call.conn = conn
         conn.waiting.append(call)
         if self.persistent:
@@ -200,7 +209,9 @@ class ServiceProxy:
         conn, server = ev.payload
         if conn.closed:
             return  # the client gave up before connecting
-        waiting = [call for call in conn.waiting if not call.done]
+        waiting = conn.waiting
+        if len(waiting) != 1 or waiting[0].done:  # one call waiting: every call of a plain proxy
+            waiting = [call for call in waiting if not call.done]
         conn.waiting = []
         error = server._accept(conn)
         back = conn.link.sample_ns()
