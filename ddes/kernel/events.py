@@ -94,11 +94,12 @@ class NsEnvironment(simpy.Environment):
         return ev
 
     def event(self) -> Event:
-        """``simpy.Event(env)`` (built as SimPy's ``__init__`` does, without calling it)."""
+        """``simpy.Event(env)``, built as SimPy 4.1's ``__init__`` builds it, without calling
+        it: ``env`` and ``callbacks``, in that order (``_value`` stays the class's PENDING), so
+        its attribute layout is that of every other Event."""
         ev: Event = _new_event(Event)
         ev.env = self
         ev.callbacks = []
-        ev._value = PENDING
         return ev
 
     def process(self, generator: ProcessGenerator) -> simpy.Process:

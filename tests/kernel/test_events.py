@@ -154,3 +154,11 @@ def test_succeed_refuses_an_event_triggered_already() -> None:
         succeed(ev, 2)
     with pytest.raises(RuntimeError, match="has already been triggered"):
         ev.succeed(2)
+
+
+def test_env_event_holds_what_simpy_s_event_holds() -> None:
+    env = NsEnvironment()
+    ours, theirs = env.event(), simpy.Event(env)
+    assert type(ours) is simpy.Event
+    assert list(vars(ours)) == list(vars(theirs))  # the same attributes, in the same order
+    assert is_pending(ours) and ours.callbacks == []
