@@ -35,7 +35,7 @@ from typing import IO, TYPE_CHECKING, Any, NamedTuple
 
 from ddes.errors import DdesTypeError, DdesValueError, DigestError
 from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_matches, describe
-from ddes.kernel.trace_lines import LineEncoder, holds_wire, wire_field
+from ddes.kernel.trace_lines import _WIRE, LineEncoder, holds_wire, wire_field
 from ddes.time.units import HasNsec
 
 __all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
@@ -196,24 +196,19 @@ def _row_encoder(keys: tuple[Any, ...]) -> _RowEnc:
     enc = _make_encoder(keys, row_form=True)
     if enc is None:
         enc = _slow
-    wire = wire_field(keys)
-    if wire is not None:
-        enc = _wire_encoder(enc, *wire)
+    if wire_field(keys) is not None:
+        enc = _wire_encoder(enc)
     if len(_BY_ID) < 4096:
         _BY_ID[id(keys)] = (keys, enc)
     return enc
 
 
-def _wire_encoder(enc: _RowEnc, index: int, decode: Callable[[bytes], object],
-                  plain: tuple[str, ...]) -> _RowEnc:
+def _wire_encoder(enc: _RowEnc) -> _RowEnc:
     """The encoder of a :func:`~ddes.kernel.trace_lines.wire_keys` shape: ``enc`` of the row
     with its wire bytes decoded (the line of the row that held the message itself)."""
-    at = 4 + index
 
     def wire_enc(r: Row) -> str:
-        if len(r) <= at:
-            return enc(r)
-        return enc((*r[:3], plain, *r[4:at], decode(r[at]), *r[at + 1:]))
+        return enc(_decoded(r))
 
     return wire_enc
 
@@ -289,12 +284,9 @@ def _event(raw: Row) -> TraceEvent:
     # (t, kind, source, keys, *values) from append_row(); keys is a tuple.
     if len(raw) == 4 and type(raw[3]) is not tuple:
         return TraceEvent(*raw)
-    keys = raw[3]
-    details = dict(zip(keys, raw[4:]))
-    wire = wire_field(keys)
-    if wire is not None and len(raw) > 4 + wire[0]:
-        details[keys[wire[0]]] = wire[1](raw[4 + wire[0]])
-    return TraceEvent(raw[0], raw[1], raw[2], details)
+    if id(raw[3]) in _WIRE:  # (wire_field's test, without a call per row)
+        raw = _decoded(raw)
+    return TraceEvent(raw[0], raw[1], raw[2], dict(zip(raw[3], raw[4:])))
 
 
 def _same(have: object, want: object) -> bool:
@@ -841,7 +833,7 @@ class Trace:
         # Row-form rows are matched where they lie, the event built only for a match: per key
         # tuple and value count, the index of each wanted key's value (the last occurrence
         # among the keys that have a value, as dict(zip(keys, values)) keeps), or -1.
-        where: dict[tuple[int, int], tuple[tuple[Any, ...], tuple[int, ...] | None]] = {}
+        where: dict[tuple[int, int], tuple[tuple[Any, ...], tuple[int, ...] | None, bool]] = {}
         for raw in self._raw:
             t, k = raw[0], raw[1]
             if exact is not None and k not in exact and not (kprefixes and k.startswith(kprefixes)):
@@ -858,12 +850,13 @@ class Trace:
                     n = len(raw) - 4
                     hit = where.get((id(keys), n))
                     if hit is None or hit[0] is not keys:
-                        hit = where[(id(keys), n)] = (keys, _value_indexes(keys, n, want))
+                        hit = where[(id(keys), n)] = (keys, _value_indexes(keys, n, want),
+                                                      wire_field(keys) is not None)
                     indexes = hit[1]
                     if indexes is None:
                         out.append(_event(raw))  # raises as dict(zip()) does
                         continue
-                    if wire_field(keys) is not None:  # a message held as its wire bytes
+                    if hit[2]:  # a message held as its wire bytes
                         ev = _event(raw)
                         if _match_details(ev.details, details):
                             out.append(ev)
