@@ -62,14 +62,19 @@ class NsEnvironment(simpy.Environment):
         super().__init__(initial_time)
         #: Current kernel time, integer nanoseconds (a plain attribute; read-only by contract).
         self.now_ns: int = initial_time
-        #: Events processed so far (the wall-clock watchdog watches it move).
-        self.steps = 0
         #: Called as ``on_failure(event, exception)`` for a failed event nobody waited on;
         #: returning True means it was handled (SimPy would crash the run).
         self.on_failure: Callable[[Event, BaseException], bool] | None = None
         #: Most events one instant may hold before the run stops as a zero-time livelock.
         self.instant_budget: int = DEFAULT_INSTANT_BUDGET
+        #: Events processed at the current instant after its first: the livelock count, and
+        #: with ``now_ns`` the kernel's progress (see :meth:`progress`).
         self._same_instant = 0
+
+    def progress(self) -> tuple[int, int]:
+        """A mark that grows with every event processed: ``(now_ns, events at now_ns after the
+        first)``, increasing lexicographically per step (the wall-clock watchdog watches it)."""
+        return (self.now_ns, self._same_instant)
 
     @property
     def now(self) -> int:
@@ -142,14 +147,13 @@ class NsEnvironment(simpy.Environment):
         except IndexError:
             raise EmptySchedule from None
         now: int = t  # type: ignore[assignment]  # ddes schedules int delays only
-        self.steps += 1
         if now == self.now_ns:
-            self._same_instant += 1
-            if self._same_instant > self.instant_budget:
-                raise ZeroTimeLivelock(now, self._same_instant, event)
+            n = self._same_instant = self._same_instant + 1
+            if n > self.instant_budget:
+                raise ZeroTimeLivelock(now, n, event)
         else:
+            self._now = self.now_ns = now
             self._same_instant = 0
-        self._now = self.now_ns = now
         callbacks, event.callbacks = event.callbacks, None  # type: ignore[assignment]
         if not callbacks:
             label = getattr(event, MUST_YIELD, None)

@@ -49,7 +49,7 @@ class WallBudgetExceeded(BaseException):  # noqa: N818 - an internal signal, not
 
 
 class Watchdog:
-    """Context manager: a ``SIGALRM`` interval timer watching ``env.steps`` move."""
+    """Context manager: a ``SIGALRM`` interval timer watching ``env.progress()`` move."""
 
     def __init__(self, env: object, budget: float | None) -> None:
         self.env = env
@@ -57,7 +57,7 @@ class Watchdog:
         self.active = False
         self._old_handler: object = None
         self._old_timer: tuple[float, float] = (0.0, 0.0)
-        self._last_steps = -1
+        self._last_mark: object = None
         self._last_change = 0.0
 
     def __enter__(self) -> Watchdog:
@@ -68,7 +68,7 @@ class Watchdog:
         if isinstance(old, _Handler):  # a nested run(): the outer watchdog already watches
             return self
         self._old_handler = old
-        self._last_steps = self.env.steps  # type: ignore[attr-defined]
+        self._last_mark = self.env.progress()  # type: ignore[attr-defined]
         # The wall clock, on purpose: it only stops code that would never stop and
         # decides nothing in the trace (see the module docstring).
         self._last_change = time.monotonic()
@@ -80,10 +80,10 @@ class Watchdog:
 
     def check(self) -> None:
         """The alarm: raise if the kernel took no step for longer than the budget."""
-        steps = self.env.steps  # type: ignore[attr-defined]
+        mark = self.env.progress()  # type: ignore[attr-defined]
         now = time.monotonic()
-        if steps != self._last_steps:
-            self._last_steps, self._last_change = steps, now
+        if mark != self._last_mark:
+            self._last_mark, self._last_change = mark, now
             return
         assert self.budget is not None
         if now - self._last_change >= self.budget:
