@@ -157,6 +157,11 @@ class Timer:
     timer always survives a backwards jump as rospy's does with ``reset=True``.
     """
 
+    __slots__ = ("_alive", "_kernel", "_cbq", "cb_active", "_callback", "_trace", "_source",
+                 "_env", "_period", "_armed", "_fire_cb", "_done_cb", "_ce", "_le", "_lr", "_ld",
+                 "_last_time", "_started", "fires", "_clock", "_sleep_dur", "_oneshot", "_reset",
+                 "_node")
+
     def __init__(
         self,
         node: Node,

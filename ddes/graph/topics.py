@@ -244,6 +244,11 @@ def _arrive_batch(ev: Posted[tuple[bytes, int, list[Connection]]]) -> None:
 class Publisher(Generic[_C_co]):
     """``Publisher(node, name, data_class, queue_size=None, latch=False)`` (rospy.Publisher)."""
 
+    __slots__ = ("_closed", "data_class", "published", "_roscpp", "_nconn", "_seqbox",
+                 "_has_header", "latch", "_env", "_trace", "_node_name", "resolved_name",
+                 "_fanout", "_single", "_latched", "_latched_seq", "node", "world", "name", "type",
+                 "md5sum", "queue_size", "headers", "connections")
+
     def __init__(
         self,
         node: Node,
@@ -404,6 +409,10 @@ class Publisher(Generic[_C_co]):
 
 class Subscriber(Generic[_C_co]):
     """``Subscriber(node, name, data_class, callback, callback_args, queue_size)`` (rospy)."""
+
+    __slots__ = ("_closed", "_any", "data_class", "_cbq", "_internal", "_queue", "cb_active",
+                 "_trace", "_node_name", "resolved_name", "callback", "callback_args", "_env",
+                 "queue_size", "node", "world", "name", "type", "md5sum", "connections")
 
     def __init__(
         self,

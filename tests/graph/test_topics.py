@@ -288,3 +288,27 @@ def test_a_lone_connection_arrives_as_a_batch_of_one_would(kind: str) -> None:
     assert rows_alone == rows_batched
     if kind == "busy":
         assert any(ev.kind == "topic.drop" for ev in rows_alone)
+
+
+def test_the_per_message_handles_are_slotted_with_every_attribute_they_use() -> None:
+    """Publisher, Subscriber and Timer keep their state in slots (compact objects: a world of a
+    thousand nodes touches one per message); a handle that used an attribute outside its
+    __slots__ would raise AttributeError here, on a run that exercises publish, deliver,
+    latching, a queue and a timer."""
+    world = ddes.World()
+    a, b = world.create_node("a"), world.create_node("b")
+    pub = a.advertise("x", String, queue_size=1, latch=True)
+    got: list[str] = []
+    sub = b.subscribe("x", String, lambda m, arg: got.append(m.data + arg), callback_args="!",
+                      queue_size=1)
+    timer = a.create_timer(0.1, lambda _e: pub.publish(String("tick")))
+    world.run(until=0.35)
+    for handle in (pub, sub, timer):
+        assert not hasattr(handle, "__dict__"), type(handle).__name__
+        with pytest.raises(AttributeError):
+            handle.not_an_attribute = 1  # type: ignore[union-attr]
+    assert got == ["tick!"] * 3
+    assert (pub.published, timer.fires, sub.get_num_connections()) == (3, 3, 1)
+    timer.shutdown()
+    sub.unregister()
+    pub.unregister()
