@@ -10,6 +10,12 @@ Honest measurement on a shared, loaded machine:
 * **Median and spread**: every figure is the median over the rounds; the
   ratio is the median of the per-round ratios, with its minimum and maximum
   (``ratio_min``/``ratio_max``) beside it.
+* **No earlier round's garbage**: :func:`interleave` calls :func:`gc.collect`
+  before each timed call, outside its timing, so the cyclic garbage an earlier
+  call left (a finished world is a web of cycles) is not freed inside
+  whichever later call happens to start a full collection.  Collections that
+  a call's own allocations start are still timed (the collector stays on,
+  unlike :mod:`timeit`'s default).
 * **Fair baselines**: beside the raw baseline (a hand-written SimPy model of
   the same schedule) a benchmark may give a *fair* one: raw SimPy plus
   exactly the work the ROS semantics require (serialize, deserialize, the
@@ -23,6 +29,7 @@ figures mean nothing.
 
 from __future__ import annotations
 
+import gc
 import os
 import statistics
 import time
@@ -92,12 +99,15 @@ class Comparison(tuple[float, float]):
 
 def interleave(fns: dict[str, Callable[[], float]], repeat: int,
                rate: Callable[[Callable[[], float]], float] = cpu_rate) -> dict[str, list[float]]:
-    """Run every named function once per round, rotating the order; every round's rate."""
+    """Run every named function once per round, rotating the order; every round's rate.
+
+    Each call starts after a full collection (untimed): see the module docstring."""
     names = list(fns)
     out: dict[str, list[float]] = {name: [] for name in names}
     for i in range(repeats(repeat)):
         k = i % len(names)
         for name in names[k:] + names[:k]:
+            gc.collect()
             out[name].append(rate(fns[name]))
     return out
 
