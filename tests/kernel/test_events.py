@@ -162,3 +162,22 @@ def test_env_event_holds_what_simpy_s_event_holds() -> None:
     assert type(ours) is simpy.Event
     assert list(vars(ours)) == list(vars(theirs))  # the same attributes, in the same order
     assert is_pending(ours) and ours.callbacks == []
+
+
+@given(st.lists(st.integers(min_value=0, max_value=3), min_size=1, max_size=20))
+def test_progress_grows_with_every_step_and_now_follows_the_events(delays: list[int]) -> None:
+    """env.progress() (what the wall-clock watchdog watches) is larger after every step, and
+    now_ns (stored only when the time moves) is every event's time, as SimPy's now is."""
+    env, ref = NsEnvironment(), simpy.Environment()
+    for e in (env, ref):
+        for d in delays:
+            e.timeout(d).callbacks.append(lambda ev: ev.env.timeout(0))  # one more at that time
+    marks, times = [env.progress()], []
+    while env.peek() != float("inf"):
+        env.step()
+        ref.step()
+        marks.append(env.progress())
+        times.append((env.now_ns, env.now, int(ref.now)))
+    assert all(a < b for a, b in zip(marks, marks[1:])), marks
+    assert all(a == b == c for a, b, c in times), times
+    assert len(marks) == 2 * len(delays) + 1
