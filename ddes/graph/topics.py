@@ -294,8 +294,11 @@ class Publisher(Generic[_C_co]):
         self._roscpp = node.client_library == "roscpp"
         self._closed = False
         #: Per fixed latency: (delay, the connection or the list of them, the arrival callback).
-        self._fanout: list[tuple[int, Any, Callable[[Posted[Any]], None]]] = []
-        self._single: list[Connection] = []
+        # Tuples, rebuilt on every connect/disconnect: a publisher with no connection holds the
+        # empty tuple, which the cyclic collector never tracks (a big world's publishers are
+        # mostly unconnected, and each tracked object is walked by every full collection).
+        self._fanout: tuple[tuple[int, Any, Callable[[Posted[Any]], None]], ...] = ()
+        self._single: tuple[Connection, ...] = ()
         self._nconn = 0
         self._env = node.world.env
         self._trace = node.world.trace
@@ -379,9 +382,10 @@ class Publisher(Generic[_C_co]):
                 single.append(conn)
         # A group of one connection arrives through its subscriber's _arrive_one (one Python
         # call fewer per message), a larger one through _arrive_batch.
-        self._fanout = [(delay, conns[0], conns[0].sub._arrive_one) if len(conns) == 1
-                        else (delay, conns, _arrive_batch) for delay, conns in groups.items()]
-        self._single = single
+        self._fanout = tuple([(delay, conns[0], conns[0].sub._arrive_one) if len(conns) == 1
+                              else (delay, conns, _arrive_batch)
+                              for delay, conns in groups.items()])
+        self._single = tuple(single)
         self._nconn = len(self.connections)
 
     def get_num_connections(self) -> int:
