@@ -250,8 +250,11 @@ def test_wait_for_message(world: ddes.World) -> None:
 @pytest.mark.parametrize("kind", ["typed", "args", "any", "busy"])
 def test_a_lone_connection_arrives_as_a_batch_of_one_would(kind: str) -> None:
     """Publisher._fanout hands a group of one connection to Subscriber._arrive_one, a larger
-    group to _arrive_batch: the listener's deliveries, drops and trace rows are the same."""
-    def run(twin: bool) -> tuple[list[Any], list[Any], Any, list[tuple[int, ...]]]:
+    group to _arrive_batch, and a connection with a drawn latency goes alone through
+    Connection._arrive and Subscriber._receive: three copies of one delivery, whose listener's
+    deliveries, drops and trace rows are the same."""
+    def run(twin: bool, drawn: bool = False) -> tuple[list[Any], list[Any], Any,
+                                                      list[tuple[int, ...]]]:
         world = ddes.World(5)
         world.connect_delay = 0
         got: list[Any] = []
@@ -272,20 +275,24 @@ def test_a_lone_connection_arrives_as_a_batch_of_one_would(kind: str) -> None:
             node.subscribe("chatter", Int32, busy, queue_size=2)
         if twin:
             world.create_node("twin").subscribe("chatter", Int32, lambda m: None)
+        if drawn:  # a latency drawn per message (always 0): the connection is not batchable
+            world.set_link("/chatter", subscriber="/listener", latency=lambda rng: 0.0)
         pub = talker(world, hz=10, n=8)
         world.run()
         rows = [ev for ev in world.trace if ev.source == "/listener"]
         stats = [(c.sent, c.received, c.delivered, c.dropped, c.lost) for c in pub.connections
                  if c.sub.node.name == "/listener"]
-        return got, rows, pub._fanout[0][2], stats
+        return got, rows, pub._fanout[0][2] if pub._fanout else pub._single, stats
 
     alone, rows_alone, path_alone, stats_alone = run(False)
     batched, rows_batched, path_batched, stats_batched = run(True)
-    assert stats_alone == stats_batched
+    single, rows_single, path_single, stats_single = run(False, drawn=True)
+    assert stats_alone == stats_batched == stats_single
     assert getattr(path_alone, "__func__", None) is ddes.graph.topics.Subscriber._arrive_one
     assert path_batched is ddes.graph.topics._arrive_batch
-    assert alone == batched and len(alone) >= 3
-    assert rows_alone == rows_batched
+    assert len(path_single) == 1 and not path_single[0].batchable
+    assert alone == batched == single and len(alone) >= 3
+    assert rows_alone == rows_batched == rows_single
     if kind == "busy":
         assert any(ev.kind == "topic.drop" for ev in rows_alone)
 
