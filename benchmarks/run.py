@@ -9,7 +9,9 @@ plus exactly the work the ROS semantics require) with ``fair_ratio`` and its
 spread.  All rates are per CPU second (``time.process_time``).  The first
 line, ``conditions``, records the machine's load when the run started and
 ended.  Benchmarks live in ``bench_*.py`` modules beside this file, each
-exposing ``benchmarks() -> list[dict]``.
+exposing ``benchmarks() -> list[dict]``.  Each module runs in a child process
+of its own (``run.py --module PATH``), so what one leaves behind (a Dask
+cluster's threads, a grown heap, caches, imported modules) cannot slow the next.
 
     python benchmarks/run.py              # all
     python benchmarks/run.py time msg     # only bench_time.py and bench_msg.py
@@ -23,6 +25,7 @@ import importlib.util
 import json
 import os
 import platform
+import subprocess
 import sys
 import time
 import traceback
@@ -65,7 +68,49 @@ def table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def run_module(path: Path) -> int:
+    """In the child: run one ``bench_*.py`` module, print its rows as JSON lines (0: it ran)."""
+    sys.path.insert(0, str(HERE))
+    try:
+        spec = importlib.util.spec_from_file_location(path.stem, path)
+        assert spec and spec.loader
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        found = module.benchmarks()
+    except Exception as exc:  # noqa: BLE001 - reported as a row; the parent's run goes on
+        traceback.print_exc()
+        error = {"name": path.stem, "error": f"{type(exc).__name__}: {exc}"}
+        print(json.dumps(error), flush=True)
+        return 1
+    for row in found:
+        print(json.dumps(row), flush=True)
+    return 0
+
+
+def _run_child(path: Path) -> tuple[list[dict[str, Any]], bool]:
+    """Run ``path`` in a fresh interpreter; its rows, and whether it ran to the end.
+
+    The child's JSON lines are its rows; any other line it prints goes to stderr (as the
+    child's stderr does, untouched).  A child that dies without an error row of its own
+    (killed, out of memory) gets one naming its exit status."""
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--module", str(path)]
+    found: list[dict[str, Any]] = []
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as child:
+        assert child.stdout is not None
+        for line in child.stdout:
+            if line.startswith("{"):
+                found.append(json.loads(line))
+            else:
+                sys.stderr.write(line)
+    rc = child.returncode
+    if rc != 0 and not any("error" in r for r in found):
+        found.append({"name": path.stem, "error": f"the benchmark's process ended with status {rc}"})
+    return found, rc == 0
+
+
 def main(argv: list[str]) -> int:
+    if argv[:1] == ["--module"] and len(argv) == 2:
+        return run_module(Path(argv[1]))
     tiny = "--tiny" in argv
     json_only = "--json" in argv
     if tiny:
@@ -82,16 +127,8 @@ def main(argv: list[str]) -> int:
         short = path.stem.removeprefix("bench_")
         if wanted and short not in wanted:
             continue
-        try:
-            spec = importlib.util.spec_from_file_location(path.stem, path)
-            assert spec and spec.loader
-            module = importlib.util.module_from_spec(spec)
-            spec.loader.exec_module(module)
-            found = module.benchmarks()
-        except Exception as exc:  # noqa: BLE001 - reported as a row; the run goes on
-            failed += 1
-            traceback.print_exc()
-            found = [{"name": f"bench_{short}", "error": f"{type(exc).__name__}: {exc}"}]
+        found, ok = _run_child(path)
+        failed += not ok
         for row in found:
             rows.append(row)
             print(json.dumps(row), flush=True)

@@ -6,11 +6,15 @@ benchmark runs to the end and reports its rows in the documented shape.
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
+
+import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -56,3 +60,38 @@ def test_run_py_tiny_prints_every_figure() -> None:
     table = proc.stdout.split("\n\n", 1)[1]
     for name in FIGURES:
         assert name in table
+
+
+def _run_py() -> Any:
+    """benchmarks/run.py as a module (it is a script, not a package member)."""
+    spec = importlib.util.spec_from_file_location("bench_run", ROOT / "benchmarks" / "run.py")
+    assert spec and spec.loader
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize(("body", "status", "error"), [
+    ("def benchmarks():\n    return [{'name': 'a', 'value': 1}, {'name': 'b', 'value': 2}]\n",
+     True, None),
+    ("def benchmarks():\n    raise ValueError('no such scenario')\n",
+     False, "ValueError: no such scenario"),
+    ("import os\nprint('a stray line')\ndef benchmarks():\n    os._exit(3)\n",
+     False, "the benchmark's process ended with status 3"),
+])
+def test_each_benchmark_module_runs_in_a_process_of_its_own(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], body: str, status: bool,
+        error: str | None) -> None:
+    """run.py runs every bench_*.py in a fresh interpreter (what one leaves behind cannot slow
+    the next): its rows come back, a failure becomes an error row naming it, a process that
+    dies without one gets one naming its exit status, and a stray printed line goes to stderr."""
+    path = tmp_path / "bench_probe.py"
+    path.write_text(body)
+    rows, ok = _run_py()._run_child(path)
+    assert ok is status
+    if error is None:
+        assert rows == [{"name": "a", "value": 1}, {"name": "b", "value": 2}]
+    else:
+        assert rows[-1] == {"name": "bench_probe", "error": error}
+    if "stray" in body:
+        assert "a stray line" in capsys.readouterr().err
