@@ -222,20 +222,13 @@ class Connection:
         if at < self._last:
             at = self._last  # FIFO per connection
         self._last = at
-        post(env, at - now, (data, seq), self._arrive)
-
-    def _arrive(self, ev: Posted[tuple[bytes, int]]) -> None:
-        if self.closed:
-            return
-        data, seq = ev.payload
-        self.received += 1
-        self.sub._receive(self, data, seq, ev.at_ns)
+        post(env, at - now, (data, seq, self), self.sub._arrive_one)  # a group of one, alone
 
 
 def _arrive_batch(ev: Posted[tuple[bytes, int, list[Connection]]]) -> None:
     """A batched publish's arrival on a group of connections of one latency: per connection,
-    what :meth:`Connection._arrive` and :meth:`Subscriber._receive` do, inline (one Python call
-    fewer per subscriber; tests/graph compare the paths)."""
+    what :meth:`Subscriber._arrive_one` does, inline (one Python call fewer per subscriber).
+    Keep the two step for step the same (tests/graph compare the paths)."""
     data, seq, conns = ev.payload
     now = ev.at_ns
     for conn in conns:
@@ -497,9 +490,10 @@ class Subscriber(Generic[_C_co]):
         self.world.record("topic.subscribe", node.name, topic=self.resolved_name, type=self.type)
 
     def _arrive_one(self, ev: Posted[tuple[bytes, int, Connection]]) -> None:
-        """A batched publish's arrival on a group of one connection: ``_arrive_batch`` and
-        :meth:`_receive` in one frame, for the common case of one subscriber per latency.
-        Keep it step for step what those two do (tests/graph compare the two paths)."""
+        """The arrival of a message on one connection: a batched publish's group of one (the
+        common case, one subscriber per latency) or a connection sending on its own (a drawn
+        latency, loss).  ``_arrive_batch`` does the same per connection of a larger group;
+        keep the two step for step the same (tests/graph compare the paths)."""
         data, seq, conn = ev.payload
         if conn.closed:
             return
@@ -516,30 +510,6 @@ class Subscriber(Generic[_C_co]):
         if self._internal or (cbq.free and not self._queue and not self.cb_active):
             conn.delivered += 1
             self._trace.append_row((ev.at_ns, "topic.deliver", self._node_name,
-                                    _DELIVER_KEYS, self.resolved_name, conn.pub_name, seq))
-            cb = self.callback
-            if cb is not None:
-                if self.callback_args is None:
-                    cbq.run1(cb, msg, self)
-                else:
-                    cbq.run(cb, (msg, self.callback_args), self)
-            return
-        self._enqueue(conn, msg, seq)
-
-    def _receive(self, conn: Connection, data: bytes, seq: int, now: int) -> None:
-        if self._closed:
-            return
-        if self._any:
-            msg: MessageLike = AnyMsg(data, dict(conn.header))
-        else:
-            cls = self.data_class
-            msg = _new(cls)._deserialize_from(data)
-            msg._connection_header = conn.header  # type: ignore[attr-defined]  # as rospy sets it
-        cbq = self._cbq
-        if self._internal or (cbq.free and not self._queue and not self.cb_active):
-            # The spinner is free: deliver now, through the node's runner.
-            conn.delivered += 1
-            self._trace.append_row((now, "topic.deliver", self._node_name,
                                     _DELIVER_KEYS, self.resolved_name, conn.pub_name, seq))
             cb = self.callback
             if cb is not None:

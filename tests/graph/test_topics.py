@@ -250,9 +250,9 @@ def test_wait_for_message(world: ddes.World) -> None:
 @pytest.mark.parametrize("kind", ["typed", "args", "any", "busy"])
 def test_a_lone_connection_arrives_as_a_batch_of_one_would(kind: str) -> None:
     """Publisher._fanout hands a group of one connection to Subscriber._arrive_one, a larger
-    group to _arrive_batch, and a connection with a drawn latency goes alone through
-    Connection._arrive and Subscriber._receive: three copies of one delivery, whose listener's
-    deliveries, drops and trace rows are the same."""
+    group to _arrive_batch, and a connection with a drawn latency sends on its own
+    (Connection.send, then _arrive_one): the listener's deliveries, drops and trace rows are
+    the same on every path."""
     def run(twin: bool, drawn: bool = False) -> tuple[list[Any], list[Any], Any,
                                                       list[tuple[int, ...]]]:
         world = ddes.World(5)
