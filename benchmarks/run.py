@@ -87,10 +87,21 @@ def run_module(path: Path) -> int:
     return 0
 
 
+def _row(line: str) -> dict[str, Any] | None:
+    """A child's output line as a row (a JSON object), or None for any other line."""
+    if not line.startswith("{"):
+        return None
+    try:
+        row = json.loads(line)
+    except ValueError:
+        return None
+    return row if isinstance(row, dict) else None
+
+
 def _run_child(path: Path) -> tuple[list[dict[str, Any]], bool]:
     """Run ``path`` in a fresh interpreter; its rows, and whether it ran to the end.
 
-    The child's JSON lines are its rows; any other line it prints goes to stderr (as the
+    The child's JSON-object lines are its rows; any other line it prints goes to stderr (as the
     child's stderr does, untouched).  A child that dies without an error row of its own
     (killed, out of memory) gets one naming its exit status."""
     cmd = [sys.executable, str(Path(__file__).resolve()), "--module", str(path)]
@@ -98,10 +109,11 @@ def _run_child(path: Path) -> tuple[list[dict[str, Any]], bool]:
     with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as child:
         assert child.stdout is not None
         for line in child.stdout:
-            if line.startswith("{"):
-                found.append(json.loads(line))
-            else:
+            row = _row(line)
+            if row is None:
                 sys.stderr.write(line)
+            else:
+                found.append(row)
     rc = child.returncode
     if rc != 0 and not any("error" in r for r in found):
         found.append({"name": path.stem, "error": f"the benchmark's process ended with status {rc}"})
@@ -116,7 +128,6 @@ def main(argv: list[str]) -> int:
     if tiny:
         os.environ["DDES_BENCH_TINY"] = "1"
     wanted = {a for a in argv if not a.startswith("--")}
-    sys.path.insert(0, str(HERE))
     start = {"name": "conditions", "loadavg_start": _load(), "cpus": os.cpu_count(),
              "python": platform.python_version(), "tiny": tiny, "clock": "process_time"}
     print(json.dumps(start), flush=True)

@@ -76,7 +76,7 @@ def _run_py() -> Any:
      True, None),
     ("def benchmarks():\n    raise ValueError('no such scenario')\n",
      False, "ValueError: no such scenario"),
-    ("import os\nprint('a stray line')\ndef benchmarks():\n    os._exit(3)\n",
+    ("import os\nprint('a stray line')\nprint('{not json')\ndef benchmarks():\n    os._exit(3)\n",
      False, "the benchmark's process ended with status 3"),
 ])
 def test_each_benchmark_module_runs_in_a_process_of_its_own(
@@ -84,7 +84,8 @@ def test_each_benchmark_module_runs_in_a_process_of_its_own(
         error: str | None) -> None:
     """run.py runs every bench_*.py in a fresh interpreter (what one leaves behind cannot slow
     the next): its rows come back, a failure becomes an error row naming it, a process that
-    dies without one gets one naming its exit status, and a stray printed line goes to stderr."""
+    dies without one gets one naming its exit status, and a stray printed line (JSON or not)
+    goes to stderr."""
     path = tmp_path / "bench_probe.py"
     path.write_text(body)
     rows, ok = _run_py()._run_child(path)
@@ -94,4 +95,5 @@ def test_each_benchmark_module_runs_in_a_process_of_its_own(
     else:
         assert rows[-1] == {"name": "bench_probe", "error": error}
     if "stray" in body:
-        assert "a stray line" in capsys.readouterr().err
+        err = capsys.readouterr().err
+        assert "a stray line" in err and "{not json" in err
