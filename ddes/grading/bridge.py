@@ -100,6 +100,16 @@ class Lockstep:
         self._next_call = 0
         #: What the grader refused from the child, in order: ``(t_ns, text)``.
         self.problems: list[tuple[int, str]] = []
+        #: Student nodes whose main ended with an exception, in order: ``(t_ns, node, the
+        #: traceback with the student's frames)`` (the child's word: shown, never scored).
+        self.deaths: list[tuple[int, str, str]] = []
+        #: The first failure of each student callback (the node went on): ``(t_ns, node,
+        #: "in the callback NAME:" and the traceback)``.
+        self.callback_failures: list[tuple[int, str, str]] = []
+        #: Parameters the student's nodes read, in order: ``(t_ns, node, resolved key, found)``,
+        #: once each (the child's word: a criterion may trust it only as far as the student
+        #: could have made their node read that name anyway).
+        self.param_reads: list[tuple[int, str, str, bool]] = []
         #: Exchanges made (STEP frames sent).
         self.steps = 0
         self._child_next: float = 0
@@ -209,11 +219,31 @@ class Lockstep:
                 self._srv(fr, t)
             elif isinstance(fr, protocol.Resp):
                 published |= self._resp(fr, t)
+            elif isinstance(fr, protocol.Died):
+                self._died(fr, t)
+            elif isinstance(fr, protocol.Read):
+                self._read(fr, t)
             elif isinstance(fr, protocol.Gone):
                 node = self.proxies.get(fr.node)
                 if node is not None and not node.is_shutdown():
                     node.shutdown("the student's node ended")
         return published
+
+    def _died(self, fr: protocol.Died, t: int) -> None:
+        if fr.t_ns != t:
+            self._refuse(t, f"a death of {fr.node[:80]!r} stamped {fr.t_ns} ns in the step at "
+                            f"{t} ns")
+            return
+        into = self.deaths if fr.fatal else self.callback_failures
+        if len(into) < MAX_NODES:
+            into.append((t, fr.node[:256], fr.text))
+
+    def _read(self, fr: protocol.Read, t: int) -> None:
+        if not _global_name(fr.key) and fr.key != "/":
+            self._refuse(t, f"a parameter read of an illegal name {fr.key[:80]!r}")
+            return
+        if len(self.param_reads) < 4096:
+            self.param_reads.append((t, fr.node[:256], fr.key, fr.found))
 
     def _adv(self, fr: protocol.Adv, t: int) -> None:
         if not _global_name(fr.topic):

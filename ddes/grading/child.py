@@ -11,7 +11,9 @@ namespace, an unprivileged user where the grader is root).  It then
 3. confines itself with Landlock where the kernel has it (files: read only under the Python
    installation, ddes and the submission copy; write only under the submission copy; TCP bind
    and connect refused; no signals to processes outside the sandbox) and installs an audit hook
-   that refuses sockets, subprocesses, ``exec``, ``fork`` and ``ctypes``;
+   that refuses sockets, subprocesses, ``exec``, ``fork`` and every use of ``ctypes`` that
+   reaches memory, a library or a foreign function, ``import ctypes`` among them, as an
+   ImportError (numpy and scipy import it in ``try``, and work without it);
 4. answers STEP frames (see :mod:`ddes.grading.protocol`) until END or end of input, and the
    CALL frames before them by calling the student's service through a bridge ServiceProxy.
 
@@ -109,19 +111,34 @@ def landlock(read_paths: list[str], write_paths: list[str]) -> int:
     return int(abi)
 
 
+#: What the audit hook refuses: whatever reaches past Python into the process or the system.
 _REFUSED_EVENTS = frozenset({
     "socket.__new__", "socket.connect", "socket.bind", "socket.sendto", "socket.getaddrinfo",
     "subprocess.Popen", "os.system", "os.exec", "os.posix_spawn", "os.spawn", "os.fork",
-    "os.forkpty", "pty.spawn", "ctypes.dlopen", "ctypes.dlsym", "ctypes.cdata",
+    "os.forkpty", "pty.spawn", "ctypes.dlopen", "ctypes.dlsym", "ctypes.dlsym/handle",
+    "ctypes.cdata", "ctypes.cdata/buffer", "ctypes.call_function", "ctypes.addressof",
+    "ctypes.string_at", "ctypes.wstring_at", "ctypes.PyObj_FromPtr",
     "os.kill", "os.killpg", "signal.pthread_kill", "sys.addaudithook",
 })
+
+
+class SandboxImportRefused(ImportError):
+    """``import ctypes`` in the sandbox.  ctypes reaches memory without an audit event
+    (``ctypes.memmove`` to any address, ``cast`` of any address to an object: Python 3.11
+    raises none for them), so it is what escapes, and the sandbox is a Python without it.  The
+    refusal is an ImportError, as on a Python built without ctypes: numpy (and scipy) import
+    ctypes in ``try: ... except ImportError`` and work without it (only ``ndarray.ctypes`` and
+    ``numpy.ctypeslib`` are then missing, as there)."""
 
 
 def _audit(event: str, args: tuple[Any, ...]) -> None:
     if event in _REFUSED_EVENTS:
         raise PermissionError(f"the grading sandbox refuses {event}")
     if event == "import" and args and str(args[0]).split(".")[0] in ("ctypes", "_ctypes"):
-        raise PermissionError("the grading sandbox refuses ctypes")
+        raise SandboxImportRefused(
+            "the grading sandbox refuses ctypes (it reaches memory and libraries outside "
+            "Python); numpy and every module that can do without ctypes import as usual",
+            name=str(args[0]))
 
 
 # -- the bridge ---------------------------------------------------------------------------------
@@ -141,6 +158,49 @@ class _Bridge:
         self.seen_srv: set[tuple[str, str]] = set()
         self.clients: dict[str, Any] = {}  # service -> the bridge's ServiceProxy
         self.live: dict[str, None] = {}
+        self.reads: set[tuple[str, str, bool]] = set()
+        world.param_observer = self.read
+        self.failed: set[tuple[str, str]] = set()
+        self.errors_seen = 0
+
+    def read(self, node: str, key: str, found: bool) -> None:
+        """A student node read a parameter: told once per (node, key, found)."""
+        from ddes.grading import protocol
+
+        if node != BRIDGE and (node, key, found) not in self.reads and len(self.reads) < 4096:
+            self.reads.add((node, key, found))
+            self.frames.append(protocol.encode_read(node, key, found))
+
+    def watch(self, path: str, done: Any, context: Any) -> None:
+        """Tell the grader when the script ``path``'s main ends with an exception."""
+        from ddes.graph.failures import user_traceback
+
+        def ended(ev: Any) -> None:
+            if ev.ok or not isinstance(ev.value, BaseException):
+                return
+            from ddes.grading import protocol
+
+            node = context.node
+            who = node.name if node is not None else os.path.basename(path)
+            self.frames.append(protocol.encode_died(who, self.world.env.now_ns, True,
+                                                    user_traceback(ev.value)))
+
+        done.callbacks.insert(0, ended)
+
+    def callback_errors(self) -> None:
+        """Tell the grader of the first failure of each student callback since the last step
+        (the node goes on, as rospy's does)."""
+        from ddes.grading import protocol
+        from ddes.graph.failures import user_traceback
+
+        errors = self.world.callback_errors
+        for node, callback, exc, _text in errors[self.errors_seen:]:
+            if node != BRIDGE and (node, callback) not in self.failed and len(self.failed) < 64:
+                self.failed.add((node, callback))
+                self.frames.append(protocol.encode_died(
+                    node, self.world.env.now_ns, False,
+                    f"in the callback {callback}:\n{user_traceback(exc)}"))
+        self.errors_seen = len(errors)
 
     def capture(self, topic: str) -> Any:
         from ddes.graph.topics import AnyMsg, Subscriber
@@ -323,8 +383,11 @@ def main(argv: list[str] | None = None) -> int:
         if not started:
             started = True
             for path, args in scripts:
-                run_script(world, os.path.join(cwd, path), args, print_line=printer)
+                done, context = run_script(world, os.path.join(cwd, path), args,
+                                           print_line=printer)
+                bridge.watch(path, done, context)
         world.run_through(t)
+        bridge.callback_errors()
         bridge.discover()
         nxt = world.env.peek()
         bridge.flush(-1 if nxt == float("inf") else int(nxt))

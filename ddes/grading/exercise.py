@@ -72,6 +72,14 @@ class Facts:
     submission: Path
     #: Names of the student's nodes (their proxies in the grader's world).
     student_nodes: list[str]
+    #: Student nodes whose main raised: ``(t_ns, node or script, traceback)`` (the child's
+    #: word, for feedback: never a reason to give points).
+    deaths: list[tuple[int, str, str]] = field(default_factory=list)
+    #: The first failure of each student callback (the node went on, as rospy's does):
+    #: ``(t_ns, node, "in the callback NAME:" + traceback)``.
+    callback_failures: list[tuple[int, str, str]] = field(default_factory=list)
+    #: Parameters the student's nodes read: ``(t_ns, node, resolved key, found)``, once each.
+    param_reads: list[tuple[int, str, str, bool]] = field(default_factory=list)
 
     def messages(self, topic: str, publisher: str | None = None) -> list[tuple[int, str, Any]]:
         """``(t_ns, publisher, message)`` of every message published on ``topic`` in the

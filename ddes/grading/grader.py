@@ -137,15 +137,18 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         outcome = lock.run(until, done=None if finished is None else lambda: finished(world))
         refused = lock.problems
         nodes = list(lock.proxies)
+        deaths, failures, reads = lock.deaths, lock.callback_failures, lock.param_reads
     else:  # no student node to run: no child, no lockstep (nothing of the submission executes)
         _run_alone(world, until, exercise.finished if prepared is not None else None)
         outcome = SandboxOutcome(state="not started", reason=(
             "the submission could not be read" if prepared is None else
             "no student node to run: the student's process was not started"))
         refused, nodes = [], []
+        deaths, failures, reads = [], [], []
     facts = Facts(exercise=exercise, scenario=scenario, world=world, outcome=outcome,
                   refused=refused, submission=prepared if prepared is not None else Path("/nonexistent"),
-                  student_nodes=nodes)
+                  student_nodes=nodes, deaths=deaths, callback_failures=failures,
+                  param_reads=reads)
     return world, facts
 
 
@@ -173,6 +176,14 @@ def _note_problems(report: GradeReport, facts: Facts) -> None:
         failed = outcome.returncode != 0  # an error's traceback ends a failing run's output
         report.problems.append(f"{name}: {outcome.reason}"
                                + (_last_words(outcome.output_tail) if failed else ""))
+    for t, who, text in facts.deaths:
+        report.problems.append(f"{name}: your node {who} died at t={t / 1e9:.3f} s: "
+                               f"{death_summary(text)}")
+    for t, who, text in facts.callback_failures:
+        callback = text.partition(":")[0].removeprefix("in the callback ")
+        report.problems.append(f"{name}: your node {who} raised in its callback {callback} at "
+                               f"t={t / 1e9:.3f} s (the node goes on, as in ROS): "
+                               f"{death_summary(text)}")
     if refused:
         report.problems.append(f"{name}: the grader refused {len(refused)} item(s) from "
                                f"the student's process, first at t={refused[0][0] / 1e9:.3f} s: "
@@ -193,6 +204,36 @@ def _last_words(tail: str) -> str:
     return f"; its output ends with: {said[:300]!r}"
 
 
+def death_summary(text: str) -> str:
+    """One line of a dead node's traceback: the exception, then the student's frames from the
+    innermost out (``file:line in function``, base names as the child sent them)."""
+    lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        return "(no traceback)"
+    error = lines[-1].strip()
+    frames = []
+    for line in lines:
+        m = re.match(r'\s*File "([^"]*)", line (\d+), in (.+)$', line)
+        if m:
+            frames.append(f"{m.group(1)}:{m.group(2)} in {m.group(3)}")
+    where = f" (at {' <- '.join(reversed(frames[-4:]))})" if frames else ""
+    return (error + where)[:400]
+
+
+def _death_note(facts: Facts) -> str:
+    """What a criterion that lost points in a scenario where a student node died says of it."""
+    if facts.deaths:
+        t, who, text = facts.deaths[0]
+        more = f" (and {len(facts.deaths) - 1} more)" if len(facts.deaths) > 1 else ""
+        return (f"your node {who} died at t={t / 1e9:.3f} s{more} "
+                f"({death_summary(text)[:160]}); what it would have done after that is missing")
+    if facts.callback_failures:
+        t, who, text = facts.callback_failures[0]
+        return (f"a callback of your node {who} raised at t={t / 1e9:.3f} s "
+                f"({death_summary(text)[:160]}); see the problem lines")
+    return ""
+
+
 def score_scenario(exercise: Exercise, facts: Facts) -> list[tuple[str, float, list[str]]]:
     """``(criterion id, points, evidence lines)`` of every criterion on one scenario's facts;
     the evidence is empty when the criterion earned its maximum."""
@@ -211,5 +252,8 @@ def score_scenario(exercise: Exercise, facts: Facts) -> list[tuple[str, float, l
         if got < c.max_points:
             tag = f"{scenario.name} (seed {scenario.seed})" if not scenario.hidden else scenario.name
             shown = [f"{tag}: {line}" for line in lines] or [f"{tag}: failed"]
+            died = _death_note(facts)
+            if died:
+                shown.append(f"{tag}: {died}")
         out.append((c.id, got, shown))
     return out

@@ -30,6 +30,15 @@ Kinds, child → grader (the reply to one STEP ends with ``DONE``):
 * ``SRV node service type md5``: a student node advertised a service.
 * ``RESP id ok blob``: the answer to ``CALL id``: ``ok`` 1 and the response's wire bytes, or
   ``ok`` 0 and the error text (UTF-8, at most :data:`MAX_ERROR` bytes) the caller receives.
+* ``DIED node t_ns fatal text``: a student node's main ended with an exception at ``t_ns``
+  (``fatal`` 1; ``node`` is the node's name, or the script's base name when it died before
+  ``init_node``), or one of its callbacks raised and the node went on, as rospy's do
+  (``fatal`` 0; sent for the first failure of each callback only); ``text`` is the traceback
+  with the student's own frames by base name (UTF-8, at most :data:`MAX_ERROR` bytes).  Shown
+  to the student as written, never used for a score.
+* ``READ node key found``: a student node read the parameter ``key`` (resolved, global) with
+  ``get_param`` or ``has_param``; ``found`` 1 when it was set.  Sent once per ``(node, key,
+  found)``.
 * ``DONE next_ns``: the step is over; the child's next event is at ``next_ns`` (-1: none).
 * ``READY``: sent once, before the first step, when the child has imported ddes and confined
   itself (the grader gives that phase its own wall budget).
@@ -45,6 +54,7 @@ from ddes.errors import ProtocolError
 __all__ = [
     "ADV",
     "CALL",
+    "DIED",
     "DONE",
     "END",
     "GONE",
@@ -53,6 +63,7 @@ __all__ = [
     "MAX_ERROR",
     "MAX_STR",
     "MSG",
+    "READ",
     "READY",
     "RESP",
     "SRV",
@@ -60,9 +71,11 @@ __all__ = [
     "SUB",
     "Adv",
     "Call",
+    "Died",
     "Done",
     "Gone",
     "Msg",
+    "Read",
     "Resp",
     "Srv",
     "Step",
@@ -71,10 +84,12 @@ __all__ = [
     "decode_header",
     "encode_adv",
     "encode_call",
+    "encode_died",
     "encode_done",
     "encode_end",
     "encode_gone",
     "encode_msg",
+    "encode_read",
     "encode_ready",
     "encode_resp",
     "encode_srv",
@@ -92,8 +107,8 @@ MAX_STR = 1024
 MAX_ERROR = 4096
 
 STEP, END, CALL = 1, 2, 3
-ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP = 10, 11, 12, 13, 14, 15, 16, 17
-_KINDS = {STEP, END, CALL, ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP}
+ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP, DIED, READ = 10, 11, 12, 13, 14, 15, 16, 17, 18, 19
+_KINDS = {STEP, END, CALL, ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP, DIED, READ}
 
 _I64 = struct.Struct(">q")
 _I32 = struct.Struct(">i")
@@ -166,7 +181,22 @@ class Resp:
     data: bytes
 
 
-Frame = Step | Adv | Sub | Msg | Gone | Done | Call | Srv | Resp | None
+@dataclass(frozen=True)
+class Died:
+    node: str
+    t_ns: int
+    fatal: bool
+    text: str
+
+
+@dataclass(frozen=True)
+class Read:
+    node: str
+    key: str
+    found: bool
+
+
+Frame = Step | Adv | Sub | Msg | Gone | Done | Call | Srv | Resp | Died | Read | None
 
 
 def _s(text: str) -> bytes:
@@ -226,6 +256,22 @@ def encode_resp(call_id: int, ok: bool, data: bytes | str) -> bytes:
     if isinstance(data, str):
         data = data.encode("utf-8")[:MAX_ERROR].decode("utf-8", "ignore").encode("utf-8")
     return _frame(RESP, _I64.pack(call_id) + bytes([1 if ok else 0]) + _b(data))
+
+
+def _cut(text: str, limit: int) -> bytes:
+    """``text`` as UTF-8 of at most ``limit`` bytes, cut at a character's boundary."""
+    return text.encode("utf-8", "replace")[:limit].decode("utf-8", "ignore").encode("utf-8")
+
+
+def encode_died(node: str, t_ns: int, fatal: bool, text: str) -> bytes:
+    """``text`` is cut to :data:`MAX_ERROR` bytes, ``node`` to :data:`MAX_STR`."""
+    return _frame(DIED, _s(_cut(node, MAX_STR).decode("utf-8")) + _I64.pack(t_ns)
+                  + bytes([1 if fatal else 0]) + _b(_cut(text, MAX_ERROR)))
+
+
+def encode_read(node: str, key: str, found: bool) -> bytes:
+    return _frame(READ, _s(_cut(node, MAX_STR).decode("utf-8"))
+                  + _s(_cut(key, MAX_STR).decode("utf-8")) + bytes([1 if found else 0]))
 
 
 def encode_ready() -> bytes:
@@ -322,6 +368,23 @@ def decode_frame(kind: int, payload: bytes) -> Frame:
         out = Call(r.i64(), r.s(), r.b())
     elif kind == SRV:
         out = Srv(r.s(), r.s(), r.s(), r.s())
+    elif kind == DIED:
+        node, t, fatal = r.s(), r.i64(), r.u8()
+        if fatal not in (0, 1):
+            raise ProtocolError(f"fatal flag {fatal} (0 or 1)")
+        raw = r.b()
+        if len(raw) > MAX_ERROR:
+            raise ProtocolError(f"death text of {len(raw)} bytes (at most {MAX_ERROR})")
+        try:
+            out = Died(node, t, bool(fatal), raw.decode("utf-8"))
+        except UnicodeDecodeError:
+            raise ProtocolError("death text is not UTF-8") from None
+    elif kind == READ:
+        node, key = r.s(), r.s()
+        found = r.u8()
+        if found not in (0, 1):
+            raise ProtocolError(f"found flag {found} (0 or 1)")
+        out = Read(node, key, bool(found))
     elif kind == RESP:
         call_id, ok = r.i64(), r.u8()
         if ok not in (0, 1):

@@ -79,7 +79,7 @@ class StepReply:
     """What the child answered to one STEP (frames still to be validated by the bridge)."""
 
     frames: list[protocol.Adv | protocol.Sub | protocol.Msg | protocol.Gone | protocol.Srv
-                 | protocol.Resp] = field(default_factory=list)
+                 | protocol.Resp | protocol.Died | protocol.Read] = field(default_factory=list)
     next_ns: int = -1
 
 

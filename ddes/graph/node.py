@@ -359,6 +359,9 @@ class Node:
         """rospy.get_param: KeyError (DdesKeyError) without a default."""
         key = self.resolve_name(name)
         params = self.world.master.params
+        observer = self.world.param_observer
+        if observer is not None:
+            observer(self.name, key, params.has_param(key))
         return params.get_param(key) if default is _UNSET else params.get_param(key, default)
 
     def set_param(self, name: str, value: Any) -> None:
@@ -367,7 +370,12 @@ class Node:
 
     def has_param(self, name: str) -> bool:
         """rospy.has_param."""
-        return self.world.master.params.has_param(self.resolve_name(name))
+        key = self.resolve_name(name)
+        found = self.world.master.params.has_param(key)
+        observer = self.world.param_observer
+        if observer is not None:
+            observer(self.name, key, found)
+        return found
 
     def delete_param(self, name: str) -> None:
         """rospy.delete_param: KeyError if missing."""

@@ -134,6 +134,10 @@ class World(Kernel):
         #: file in it (``rosbag play``'s ``Opening ...``) and a grade's digest do not depend on
         #: where the submission was unpacked.  Empty (every path as it is) by default.
         self.display_paths: dict[str, str] = {}
+        #: Told of every parameter a node reads: ``fn(node, resolved key, found)`` after each
+        #: ``get_param`` and ``has_param`` of a node, or None (nothing told: the default).  The
+        #: grader's sandbox uses it to learn which names a student's node read.
+        self.param_observer: Callable[[str, str, bool], object] | None = None
         self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
         #: The world's master: registry of nodes, topics, services, and the parameters.
         self.master = Master(self)

@@ -101,8 +101,19 @@ PROBE = textwrap.dedent("""\
     def sub():
         import subprocess
         subprocess.run(["/bin/true"])
-    def ctypes_():
-        import ctypes
+    def ctypes_import():
+        try:
+            import ctypes  # noqa: F401
+        except ImportError as exc:  # as on a Python without ctypes: what numpy expects
+            raise PermissionError(str(exc)) from None
+    def ctypes_lowlevel():
+        import _ctypes  # noqa: F401
+    def ctypes_via_numpy():  # numpy's own reference to ctypes is None, as without ctypes
+        import numpy.ctypeslib
+        numpy.ctypeslib.ctypes.memmove
+    def numpy_():
+        import numpy
+        assert float(numpy.dot(numpy.arange(3.0), numpy.arange(3.0))) == 5.0
     def secret():
         if "DDES_TEST_SECRET" in os.environ:
             raise AssertionError
@@ -113,7 +124,10 @@ PROBE = textwrap.dedent("""\
     probe("write-inside", lambda: open("note.txt", "w").write("x"))
     probe("fork", fork)
     probe("subprocess", sub)
-    probe("ctypes", ctypes_)
+    probe("numpy", numpy_)
+    probe("ctypes-import", ctypes_import)
+    probe("ctypes-lowlevel", ctypes_lowlevel)
+    probe("ctypes-via-numpy", ctypes_via_numpy)
     probe("kill-parent", lambda: os.kill(os.getppid(), 0))
     probe("env-secret", secret)
 """)
@@ -131,8 +145,10 @@ def test_what_the_sandbox_enforces(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     lines = dict(line.split(": ", 1) for line in outcome.output_tail.splitlines()
                  if line.startswith("PROBE "))
     assert lines["PROBE write-inside"] == "open"
-    for name in ("socket", "read-grader-file", "write-outside", "fork", "subprocess", "ctypes",
-                 "kill-parent", "env-secret"):
+    assert lines["PROBE numpy"] == "open", outcome.output_tail  # numpy works without ctypes
+    for name in ("socket", "read-grader-file", "write-outside", "fork", "subprocess",
+                 "ctypes-import", "ctypes-lowlevel", "ctypes-via-numpy", "kill-parent",
+                 "env-secret"):
         assert lines[f"PROBE {name}"].startswith("blocked"), (name, outcome.output_tail)
     assert not outside.exists()
     assert any("network namespace (no network)" in e for e in outcome.enforced)

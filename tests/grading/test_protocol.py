@@ -70,3 +70,36 @@ def test_random_payloads_never_escape_as_other_errors(data: bytes) -> None:
             p.decode_frame(kind, data)
         except ProtocolError:
             pass
+
+
+@given(names, st.integers(-2**63, 2**63 - 1), st.booleans(), st.text(max_size=300))
+def test_died_round_trip(node: str, t: int, fatal: bool, text: str) -> None:
+    # a lone surrogate in the child's text crosses as "?" (UTF-8 has no surrogates)
+    shown = text.encode("utf-8", "replace").decode("utf-8")
+    assert roundtrip(p.encode_died(node, t, fatal, text)) == p.Died(node, t, fatal, shown)
+
+
+def test_a_long_death_text_is_cut_at_a_character() -> None:
+    frame = roundtrip(p.encode_died("/n", 0, True, "é" * p.MAX_ERROR))
+    assert isinstance(frame, p.Died)
+    assert frame.text == "é" * (p.MAX_ERROR // 2)
+
+
+@given(names, names, st.booleans())
+def test_read_round_trip(node: str, key: str, found: bool) -> None:
+    assert roundtrip(p.encode_read(node, key, found)) == p.Read(node, key, found)
+
+
+def test_bad_died_and_read_frames_are_refused() -> None:
+    died = p.encode_died("/a", 5, True, "boom")[p.HEADER.size:]
+    with pytest.raises(ProtocolError, match="fatal flag"):
+        p.decode_frame(p.DIED, died[:4 + 8] + b"\x07" + died[4 + 8 + 1:])
+    with pytest.raises(ProtocolError, match="not UTF-8"):
+        p.decode_frame(p.DIED, died[:4 + 8 + 1] + b"\x00\x00\x00\x02\xff\xfe")
+    long = (b"\x00\x02/a" + (5).to_bytes(8, "big") + b"\x01"
+            + (p.MAX_ERROR + 1).to_bytes(4, "big") + b"x" * (p.MAX_ERROR + 1))
+    with pytest.raises(ProtocolError, match="death text"):
+        p.decode_frame(p.DIED, long)
+    read = p.encode_read("/a", "/k", True)[p.HEADER.size:]
+    with pytest.raises(ProtocolError, match="found flag"):
+        p.decode_frame(p.READ, read[:-1] + b"\x02")
