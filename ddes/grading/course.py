@@ -110,12 +110,16 @@ def _private_params(plan: LaunchPlan, spec: NodeSpec) -> dict[str, Any]:
 def start_launch(world: World, scenario: Scenario, submission: Path, launch: str, *,
                  overrides: dict[str, dict[str, Any]] | None = None,
                  sim_overrides: dict[str, Any] | None = None,
-                 remaps: dict[str, dict[str, str]] | None = None) -> list[tuple[str, list[str]]]:
+                 remaps: dict[str, dict[str, str]] | None = None,
+                 namespaces: dict[str, str] | None = None) -> list[tuple[str, list[str]]]:
     """Read the student's ``launch`` (relative to the submission) and start it on ``world``.
 
     ``overrides`` maps a node *type* to private parameters set after the student's (a hidden
     YAML loaded last); ``sim_overrides`` replaces the simulator's parameters (world file, start
-    pose); ``remaps`` maps a node type to extra remappings.  Returns the scripts for the child.
+    pose); ``remaps`` maps a node type to extra remappings; ``namespaces`` maps a node type to
+    the namespace its node is started in instead of the launch file's (as a ``<group ns=...>``
+    around the ``<include>`` of the student's launch file would: its private parameters follow
+    it, a name spelled absolute does not).  Returns the scripts for the child.
     """
     from ddes.launch import load_launch
     from ddes.rospack import RosPack
@@ -139,7 +143,8 @@ def start_launch(world: World, scenario: Scenario, submission: Path, launch: str
     for spec in plan.nodes:
         pkg_dir = find_package(submission, spec.pkg)
         if pkg_dir is not None:
-            _student_node(out, plan, spec, pkg_dir, submission, overrides or {}, remaps or {})
+            _student_node(out, plan, spec, pkg_dir, submission, overrides or {}, remaps or {},
+                          (namespaces or {}).get(spec.type))
         elif spec.pkg == "rviz":
             out.rviz_args.append(list(spec.args))
         elif spec.pkg == "ddes_sim" and spec.type == "simulator":
@@ -160,7 +165,7 @@ def start_launch(world: World, scenario: Scenario, submission: Path, launch: str
 
 def _student_node(out: LaunchNotes, plan: LaunchPlan, spec: NodeSpec, pkg_dir: Path,
                   submission: Path, overrides: dict[str, dict[str, Any]],
-                  remaps: dict[str, dict[str, str]]) -> None:
+                  remaps: dict[str, dict[str, str]], namespace: str | None = None) -> None:
     from ddes.nodes import find_script
 
     script = find_script(pkg_dir, spec.type)
@@ -171,8 +176,9 @@ def _student_node(out: LaunchNotes, plan: LaunchPlan, spec: NodeSpec, pkg_dir: P
     private = _private_params(plan, spec)
     private.update(overrides.get(spec.type, {}))
     args = [*spec.args, f"__name:={spec.name}"]
-    if spec.namespace != "/":
-        args.append(f"__ns:={spec.namespace.rstrip('/')}")
+    ns = spec.namespace if namespace is None else namespace
+    if ns != "/":
+        args.append(f"__ns:={ns.rstrip('/')}")
     maps = [*spec.remappings, *remaps.get(spec.type, {}).items()]
     args += [f"{a}:={b}" for a, b in maps]
     args += [f"_{k}:={_arg_value(v)}" for k, v in private.items() if not isinstance(v, dict)]
@@ -218,8 +224,10 @@ class CourseExercise(Exercise):
                         submission: Path) -> list[tuple[str, list[str]]]:
         overrides, sim_overrides, remaps = (self.setup(world, scenario) if self.setup
                                             else ({}, {}, {}))
+        namespaces = scenario.params.get("node_namespaces")
         scripts = start_launch(world, scenario, submission, self.launch, overrides=overrides,
-                               sim_overrides=sim_overrides, remaps=remaps)
+                               sim_overrides=sim_overrides, remaps=remaps,
+                               namespaces=namespaces if isinstance(namespaces, dict) else None)
         after = scenario.params.get("after_launch")
         if callable(after):
             after(world, scenario)

@@ -48,9 +48,12 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
     out = [Scenario("public", seed, params={"yaw": 0.0, "turn": 0.5})]
     for i in range(2):
         rng = hidden_random(f"ex2_package/{i}", seed)
-        out.append(Scenario(f"hidden-{i + 1}", seed, hidden=True, params={
+        params = {
             "yaw": round(rng.uniform(-3.0, 3.0), 3), "turn": rng.choice([-0.6, -0.4, 0.4, 0.6]),
-            "scan_topic": f"/scan_{rng.getrandbits(24):06x}", "queue_size": rng.randint(1, 9)}))
+            "scan_topic": f"/scan_{rng.getrandbits(24):06x}", "queue_size": rng.randint(1, 9)}
+        if i == 1:  # the node in a namespace of its own: private names follow it, absolute don't
+            params["node_namespaces"] = {NODE_TYPE: f"/robot_{rng.getrandbits(16):04x}"}
+        out.append(Scenario(f"hidden-{i + 1}", seed, hidden=True, params=params))
     return out
 
 
@@ -202,12 +205,14 @@ def check_structure(facts: Facts) -> tuple[float, list[str]]:
     else:
         lines.append("the node script does not define a class and build it in its main part")
     in_class = [c for cls in classes for c in calls_in(cls)]
-    private = any(call_name(c) == "get_param" and c.args and isinstance(c.args[0], ast.Constant)
-                  and str(c.args[0].value).startswith("~") for c in in_class)
+    private, other = private_reads(facts)
     if private:
         points += 6
+    elif other:
+        lines.append(f"your node read {', '.join(other[:3])}, not a private parameter of its "
+                     "own (~name, which follows the node's name and namespace)")
     else:
-        lines.append("the class reads no private parameter (rospy.get_param('~name'))")
+        lines.append("your node read no private parameter (rospy.get_param('~name'))")
     bound = False
     for c in in_class:
         if call_name(c) == "Subscriber":
@@ -236,6 +241,22 @@ def check_structure(facts: Facts) -> tuple[float, list[str]]:
         lines.append(f"algorithm.py imports ROS ({', '.join(ros)})" if ros else
                      "the class calls no function of algorithm.py")
     return points, lines
+
+
+def private_reads(facts: Facts) -> tuple[list[str], list[str]]:
+    """The parameters the student's node read that were set: ``(those in its own private
+    namespace, the others)``, by their resolved names as the node read them from the parameter
+    server (``~scan_topic``, ``rospy.get_name() + "/scan_topic"`` and ``"~" + name`` are one
+    name; ``/smb_highlevel_controller/scan_topic`` is another as soon as the node runs under
+    another name or namespace)."""
+    private: list[str] = []
+    other: list[str] = []
+    nodes = set(facts.student_nodes)
+    for _t, node, key, found in facts.param_reads:
+        if node not in nodes or not found or key == "/use_sim_time":
+            continue
+        (private if key.startswith(node.rstrip("/") + "/") else other).append(key)
+    return private, other
 
 
 # -- 2.3 parameter file -------------------------------------------------------------------------
