@@ -87,6 +87,57 @@ def find_package(root: Path, name: str) -> Path | None:
     return path if root.resolve() in path.parents or path == root.resolve() else None
 
 
+def declared_packages(submission: Path) -> list[tuple[str, str]]:
+    """``(folder relative to the submission, the name its package.xml declares)`` of every
+    package.xml of the submission (read as text with a bounded parser, sorted by folder)."""
+    import xml.etree.ElementTree as ET
+
+    found = []
+    root = submission.resolve()
+    for xml in sorted(root.rglob("package.xml"))[:64]:
+        if xml.is_symlink() or not xml.is_file() or xml.stat().st_size > 1 << 20:
+            continue
+        text = xml.read_text(encoding="utf-8", errors="replace")
+        if "<!DOCTYPE" in text or "<!ENTITY" in text:
+            continue
+        try:
+            name = (ET.fromstring(text).findtext("name") or "").strip()
+        except ET.ParseError:
+            continue
+        found.append((str(xml.parent.relative_to(root)), name))
+    return found
+
+
+def package_hint(submission: Path, name: str) -> str:
+    """Why package ``name`` is not found in the submission, as a student can act on it: a
+    folder of that name declaring another package, or the packages it does have."""
+    declared = declared_packages(submission)
+    for folder, declares in declared:
+        if Path(folder).name == name and declares != name:
+            return (f"the folder {folder}/ declares package {declares!r} in its package.xml, not "
+                    f"{name!r}: ROS finds a package by the <name> of its package.xml, so make "
+                    "the two the same")
+    if declared:
+        return ("your submission's packages are " + ", ".join(
+            f"{d!r} ({f}/)" for f, d in declared[:8]) + f"; none is named {name!r}")
+    return f"your submission has no package.xml at all (a package {name!r} needs one)"
+
+
+def _student_text(text: str, submission: Path) -> str:
+    """A launch error as a student reads it: a missing package explained from their own files,
+    without the grading machine's search path or ddes's API."""
+    import re
+
+    m = re.search(r"package '([^']+)' not found", text)
+    if m is None:
+        return text.replace(str(submission.resolve()) + "/", "").replace(str(submission) + "/", "")
+    where = text[:m.start()].rstrip(": ")
+    cut = where.rfind("$(find")
+    where = where[:cut].rstrip(": ") if cut > 0 else where
+    said = f"$(find {m.group(1)}): {package_hint(submission, m.group(1))}"
+    return f"{where}: {said}" if where else said
+
+
 def _arg_value(value: Any) -> str:
     """A parameter value as rospy's ``_param:=value`` reads it back (YAML)."""
     if isinstance(value, bool):
@@ -134,7 +185,7 @@ def start_launch(world: World, scenario: Scenario, submission: Path, launch: str
     try:
         plan = load_launch(path, {}, rospack, environ={})
     except (DdesError, ValueError, OSError, KeyError) as exc:
-        out.error = f"{launch} does not load: {exc}"
+        out.error = f"{launch} does not load: {_student_text(str(exc), submission)}"
         return []
     out.plan = plan
     params = world.master.params
@@ -158,8 +209,10 @@ def start_launch(world: World, scenario: Scenario, submission: Path, launch: str
                            namespace=spec.namespace,
                            argv=[*spec.args, *(f"{a}:={b}" for a, b in spec.remappings)])
             except Exception as exc:  # noqa: BLE001 - a node the launch names that cannot start
+                text = _student_text(str(exc), submission)
                 out.problems.append(f"{spec.pkg}/{spec.type} ({spec.full_name}) did not start: "
-                                    f"{type(exc).__name__}: {exc}")
+                                    + (text if "$(find" in text else
+                                       f"{type(exc).__name__}: {text}"))
     return out.scripts
 
 

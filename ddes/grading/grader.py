@@ -77,7 +77,7 @@ def grade(exercise: Exercise, submission: str | Path, *, seed: int = 0, public: 
         first_failure: dict[str, Scenario] = {}
         for scenario in select_scenarios(exercise, seed, public, key):
             world, facts = run_scenario(exercise, scenario, prepared, limits)
-            _note_problems(report, facts)
+            _note_problems(report, facts, limits or Limits())
             report.digests[scenario.name] = _digest(world)
             for cid, earned, lines in score_scenario(exercise, facts):
                 scores[cid].append(earned)
@@ -168,7 +168,7 @@ def _run_alone(world: World, until_ns: int, finished: Callable[[World], bool] | 
         world.run(until=Time._from_ns(until_ns))
 
 
-def _note_problems(report: GradeReport, facts: Facts) -> None:
+def _note_problems(report: GradeReport, facts: Facts, limits: Limits) -> None:
     outcome, refused, name = facts.outcome, facts.refused, facts.scenario.name
     if outcome.enforced:
         report.enforced = list(outcome.enforced)
@@ -177,8 +177,14 @@ def _note_problems(report: GradeReport, facts: Facts) -> None:
         report.problems.append(f"{name}: {outcome.reason}"
                                + (_last_words(outcome.output_tail) if failed else ""))
     for t, who, text in facts.deaths:
+        cap = ""
+        if "[Errno 27] File too large" in text:
+            from ddes.grading.sandbox import _size
+
+            cap = (f" — your output (or a file) passed the {_size(limits.file_bytes)} a grade "
+                   "allows: print and log less")
         report.problems.append(f"{name}: your node {who} died at t={t / 1e9:.3f} s: "
-                               f"{death_summary(text)}")
+                               f"{death_summary(text)}{cap}")
     for t, who, text in facts.callback_failures:
         callback = text.partition(":")[0].removeprefix("in the callback ")
         report.problems.append(f"{name}: your node {who} raised in its callback {callback} at "
@@ -202,6 +208,15 @@ def _last_words(tail: str) -> str:
         where = re.sub(r'^File "[^"]*?/ddes-grade-[^/"]*/work/', 'File "', where)
     said = " / ".join(x for x in (where, lines[-1]) if x)
     return f"; its output ends with: {said[:300]!r}"
+
+
+def _cut(text: str, limit: int) -> str:
+    """``text`` of at most ``limit`` characters, cut at a word's end with "…" (never mid-word)."""
+    if len(text) <= limit:
+        return text
+    head = text[:limit - 1]
+    space = head.rfind(" ")
+    return (head[:space] if space > limit // 2 else head).rstrip() + "…"
 
 
 def death_summary(text: str) -> str:
@@ -244,7 +259,7 @@ def score_scenario(exercise: Exercise, facts: Facts) -> list[tuple[str, float, l
             points, lines = c.check(facts)
             got = finite_points(points, c.max_points)
             root = str(facts.submission)  # paths shown inside the submission, not its copy
-            lines = [str(x).replace(root + "/", "").replace(root, ".")[:500]
+            lines = [_cut(str(x).replace(root + "/", "").replace(root, "."), 500)
                      for x in list(lines)[:20]]
         except Exception as exc:  # noqa: BLE001 - a check that fails earns nothing and says why
             got, lines = 0.0, [f"the check could not be computed: {type(exc).__name__}: {exc}"]

@@ -331,6 +331,8 @@ class Sandbox:
         code = self._reap(1.0)
         why = f"exit code {code}" if code is not None and code >= 0 else (
             f"signal {signal.Signals(-code).name}" if code is not None else "unknown")
+        if code == -signal.SIGXCPU:
+            why += f": it used up its {self.limits.cpu_seconds} s of CPU time"
         self.kill("exited", f"the student's process ended at t={t_ns / 1e9:.3f} s ({why})"
                             + (f": {detail}" if detail else ""))
 
@@ -377,7 +379,9 @@ class Sandbox:
                 keep = self.limits.output_keep
                 f.seek(max(0, size - keep))
                 tail = f.read(keep).decode("utf-8", "replace").replace("\x00", "\\0")
-                self.outcome.output_tail = ("…" if size > keep else "") + tail
+                cut = (f"[… {size - keep} bytes of your output before this are not kept: a "
+                       f"grade keeps the last {_size(keep)}]\n" if size > keep else "")
+                self.outcome.output_tail = cut + tail
         except OSError:
             pass
         shutil.rmtree(self._root, ignore_errors=True)
@@ -389,6 +393,14 @@ class Sandbox:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _size(n: int) -> str:
+    """``16 MiB``, ``768 MiB``, ``512 KiB``, ``100 B``."""
+    for unit, size in (("GiB", 1 << 30), ("MiB", 1 << 20), ("KiB", 1 << 10)):
+        if n >= size and n % size == 0:
+            return f"{n // size} {unit}"
+    return f"{n} B"
 
 
 def check_limits(limits: Limits) -> None:
