@@ -14,7 +14,17 @@ transcendental functions differ by an ulp between C libraries and CPUs (with and
 AVX-512); these do not, so a trace that uses them hashes the same everywhere.
 
 Results are plain Python lists (tf.transformations returns numpy arrays; numpy is not a
-dependency of ddes).  Inputs may be any sequences of numbers, numpy arrays included.
+dependency of ddes).  Inputs may be any sequences of numbers, numpy arrays included.  A rospy
+script's ``import tf.transformations`` gets :mod:`ddes.compat.tf.transformations`: these
+functions with tf's numpy return types.
+
+Beyond the functions above, :func:`rotation_matrix`, :func:`scale_matrix`,
+:func:`compose_matrix`, :func:`is_same_transform`, :func:`random_quaternion` and
+:func:`random_rotation_matrix` follow tf.transformations too; the last two take their three
+uniform numbers ``rand`` as an argument (tf's default, ``numpy.random.rand(3)``, is the
+caller's to choose).  The functions of tf.transformations that need an eigen-decomposition
+or a singular value decomposition (``rotation_from_matrix``, ``decompose_matrix``,
+``superimposition_matrix``...) are not here: LAPACK's results differ by CPU.
 """
 
 from __future__ import annotations
@@ -30,6 +40,7 @@ __all__ = [
     "asin",
     "atan",
     "atan2",
+    "compose_matrix",
     "concatenate_matrices",
     "cos",
     "euler_from_matrix",
@@ -37,6 +48,7 @@ __all__ = [
     "euler_matrix",
     "identity_matrix",
     "inverse_matrix",
+    "is_same_transform",
     "quaternion_about_axis",
     "quaternion_conjugate",
     "quaternion_from_euler",
@@ -45,6 +57,10 @@ __all__ = [
     "quaternion_matrix",
     "quaternion_multiply",
     "quaternion_slerp",
+    "random_quaternion",
+    "random_rotation_matrix",
+    "rotation_matrix",
+    "scale_matrix",
     "sin",
     "translation_from_matrix",
     "translation_matrix",
@@ -751,3 +767,116 @@ def quaternion_slerp(quat0: Sequence[float], quat1: Sequence[float], fraction: f
     f0 = sin((1.0 - fraction) * angle) * isin
     f1 = sin(fraction * angle) * isin
     return [a * f0 + b * f1 for a, b in zip(q0, q1, strict=True)]
+
+
+def rotation_matrix(angle: float, direction: Sequence[float],
+                    point: Sequence[float] | None = None) -> Matrix:
+    """The 4x4 matrix rotating by ``angle`` about the axis ``direction`` through ``point``
+    (the origin when None), as tf.transformations' ``rotation_matrix``."""
+    sina, cosa = sin(float(angle)), cos(float(angle))
+    d = unit_vector(list(direction)[:3])
+    r = [[cosa, 0.0, 0.0], [0.0, cosa, 0.0], [0.0, 0.0, cosa]]
+    for a in range(3):
+        for b in range(3):
+            r[a][b] += d[a] * d[b] * (1.0 - cosa)
+    s = [v * sina for v in d]
+    r[0][1] += -s[2]
+    r[0][2] += s[1]
+    r[1][0] += s[2]
+    r[1][2] += -s[0]
+    r[2][0] += -s[1]
+    r[2][1] += s[0]
+    m = identity_matrix()
+    for a in range(3):
+        m[a][:3] = r[a]
+    if point is not None:
+        p = [float(v) for v in list(point)[:3]]
+        for a in range(3):
+            m[a][3] = p[a] - (r[a][0] * p[0] + r[a][1] * p[1] + r[a][2] * p[2])
+    return m
+
+
+def scale_matrix(factor: float, origin: Sequence[float] | None = None,
+                 direction: Sequence[float] | None = None) -> Matrix:
+    """The 4x4 matrix scaling by ``factor`` about ``origin``, uniformly or along
+    ``direction`` (tf.transformations' ``scale_matrix``)."""
+    factor = float(factor)
+    if direction is None:
+        m = identity_matrix()
+        for a in range(3):
+            m[a][a] = factor
+        if origin is not None:
+            for a in range(3):
+                m[a][3] = float(origin[a]) * (1.0 - factor)
+        return m
+    d = unit_vector(list(direction)[:3])
+    f = 1.0 - factor
+    m = identity_matrix()
+    for a in range(3):
+        for b in range(3):
+            m[a][b] -= f * (d[a] * d[b])
+    if origin is not None:
+        k = f * _dot([float(v) for v in list(origin)[:3]], d)
+        for a in range(3):
+            m[a][3] = k * d[a]
+    return m
+
+
+def compose_matrix(scale: Sequence[float] | None = None, shear: Sequence[float] | None = None,
+                   angles: Sequence[float] | None = None,
+                   translate: Sequence[float] | None = None,
+                   perspective: Sequence[float] | None = None) -> Matrix:
+    """The 4x4 matrix of perspective, translation, static-xyz Euler ``angles``, shear and scale,
+    in that order (tf.transformations' ``compose_matrix``)."""
+    m = identity_matrix()
+    if perspective is not None:
+        p = identity_matrix()
+        p[3] = [float(v) for v in list(perspective)[:4]]
+        m = _matmul(m, p)
+    if translate is not None:
+        m = _matmul(m, translation_matrix(translate))
+    if angles is not None:
+        m = _matmul(m, euler_matrix(angles[0], angles[1], angles[2], "sxyz"))
+    if shear is not None:
+        z = identity_matrix()
+        z[1][2] = float(shear[2])
+        z[0][2] = float(shear[1])
+        z[0][1] = float(shear[0])
+        m = _matmul(m, z)
+    if scale is not None:
+        s = identity_matrix()
+        for a in range(3):
+            s[a][a] = float(scale[a])
+        m = _matmul(m, s)
+    w = m[3][3]
+    return [[v / w for v in row] for row in m]
+
+
+def is_same_transform(matrix0: Sequence[Sequence[float]],
+                      matrix1: Sequence[Sequence[float]]) -> bool:
+    """True when the two matrices, each divided by its ``[3][3]``, agree within numpy's
+    ``allclose`` tolerances (``|a - b| <= 1e-8 + 1e-5 |b|``)."""
+    a, b = _mat(matrix0), _mat(matrix1)
+    a = [[v / a[3][3] for v in row] for row in a]
+    b = [[v / b[3][3] for v in row] for row in b]
+    return all(abs(x - y) <= 1e-8 + 1e-5 * abs(y)
+               for ra, rb in zip(a, b, strict=True) for x, y in zip(ra, rb, strict=True))
+
+
+def random_quaternion(rand: Sequence[float]) -> list[float]:
+    """The uniformly distributed unit quaternion of three numbers ``rand`` uniform in [0, 1)
+    (tf.transformations' ``random_quaternion(rand)``; here ``rand`` is required)."""
+    if len(rand) != 3:
+        raise DdesValueError(f"random_quaternion takes three numbers in [0, 1), got {rand!r}")
+    u0, u1, u2 = (float(v) for v in rand)
+    r1 = math.sqrt(1.0 - u0)
+    r2 = math.sqrt(u0)
+    pi2 = _PI * 2.0
+    t1 = pi2 * u1
+    t2 = pi2 * u2
+    return [sin(t1) * r1, cos(t1) * r1, sin(t2) * r2, cos(t2) * r2]
+
+
+def random_rotation_matrix(rand: Sequence[float]) -> Matrix:
+    """The rotation matrix of :func:`random_quaternion` ``(rand)``."""
+    return quaternion_matrix(random_quaternion(rand))

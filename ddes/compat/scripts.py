@@ -27,6 +27,7 @@ helper module of the user's that imports ``rospy`` gets the real one).
 from __future__ import annotations
 
 import builtins
+import importlib
 import sys
 import types
 from collections.abc import Callable, Sequence
@@ -119,12 +120,57 @@ def _service_part(registry: Any, package: str, attr: str) -> Any:
 
 
 class _MessagePackage(types.ModuleType):
-    """``import std_msgs.msg`` binds ``std_msgs``: a package with its ``msg`` and ``srv``."""
+    """``import std_msgs.msg`` binds ``std_msgs``: a package with its ``msg`` and ``srv`` (and
+    the Python modules a message package of ROS ships beside them, ``sensor_msgs.point_cloud2``:
+    :data:`PACKAGE_MODULES`)."""
 
     def __init__(self, world: World, package: str) -> None:
         super().__init__(package)
         self.msg = _MessageModule(world, package, "msg")
         self.srv = _MessageModule(world, package, "srv")
+
+    def __getattr__(self, attr: str) -> Any:
+        full = PACKAGE_MODULES.get(self.__name__, {}).get(attr)
+        if full is None:
+            raise AttributeError(f"module '{self.__name__}' has no attribute '{attr}'")
+        module = importlib.import_module(full)
+        setattr(self, attr, module)
+        return module
+
+
+#: The Python modules of ROS Noetic that ddes provides to a script (docs/rospy.md, "Modules a
+#: node imports"): a top-level name and everything below it resolve to the ddes module named
+#: here (``import tf.transformations`` -> :mod:`ddes.compat.tf.transformations`).  A module
+#: with a function ``_script_imported(world)`` has it called at each import by a script of that
+#: world (tf2_geometry_msgs registers its types with the world's ``Buffer.transform`` so, as
+#: importing it does on ROS).
+PROVIDED_MODULES: dict[str, str] = {
+    "tf": "ddes.compat.tf",
+    "tf2_geometry_msgs": "ddes.compat.tf2_geometry_msgs",
+    "tf_conversions": "ddes.compat.tf_conversions",
+    "message_filters": "ddes.compat.message_filters",
+    "laser_geometry": "ddes.compat.laser_geometry",
+    "angles": "ddes.compat.angles",
+    "roslib": "ddes.compat.roslib",
+}
+
+#: Python modules that a message package of ROS ships beside its ``msg``: package -> name ->
+#: the ddes module (``from sensor_msgs import point_cloud2``, ``import
+#: sensor_msgs.point_cloud2 as pc2``).
+PACKAGE_MODULES: dict[str, dict[str, str]] = {
+    "sensor_msgs": {"point_cloud2": "ddes.compat.point_cloud2"},
+}
+
+
+def _provided(world: World, top: str, rest: str, fromlist: Sequence[str]) -> types.ModuleType:
+    """``import top.rest`` of a :data:`PROVIDED_MODULES` name: the module itself with a
+    ``fromlist``, else the top-level module (as ``__import__`` answers)."""
+    base = PROVIDED_MODULES[top]
+    module = importlib.import_module(f"{base}.{rest}" if rest else base)
+    hook = getattr(module, "_script_imported", None)
+    if callable(hook):
+        hook(world)
+    return module if fromlist or not rest else importlib.import_module(base)
 
 
 def _packages(world: World) -> dict[str, _MessagePackage | None]:
@@ -185,6 +231,13 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 found = resolve_import(world, top, rest, fromlist)
                 if found is not None:
                     return found
+            if top in PROVIDED_MODULES and rest not in ("msg", "srv"):
+                return _provided(world, top, rest, fromlist)
+            if rest and top in PACKAGE_MODULES and rest in PACKAGE_MODULES[top]:
+                pkg = _message_package(world, top)
+                if pkg is not None:
+                    module = getattr(pkg, rest)
+                    return module if fromlist else pkg
             if name == "sys":
                 return script_sys
             if name == "threading":

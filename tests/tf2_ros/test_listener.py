@@ -129,6 +129,7 @@ def test_a_rospy_script_blocks_on_lookup_transform(tmp_path: Path) -> None:
     script.write_text(textwrap.dedent("""
         import rospy
         import tf2_ros
+        import tf2_geometry_msgs  # registers PointStamped with Buffer.transform, as on ROS
         from geometry_msgs.msg import PointStamped
         rospy.init_node("tf_user")
         buf = tf2_ros.Buffer()
