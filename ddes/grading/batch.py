@@ -122,7 +122,7 @@ def grade_scenario(task: Task, exercise: Exercise | None = None) -> ScenarioOutc
         if scenario is not None:
             world, facts = run_scenario(exercise, scenario, prepared, task.limits)
             notes = GradeReport(exercise="", title="", submission="", seed=0, public=False)
-            _note_problems(notes, facts)
+            _note_problems(notes, facts, task.limits or Limits())
             out.problems, out.enforced = notes.problems, notes.enforced
             out.digest = _digest(world)
             out.scores = score_scenario(exercise, facts)
