@@ -96,3 +96,143 @@ def test_largest_range_and_wrong_frame_lose_2_1_and_2_4(tmp_path):
     rviz.write_text(rviz.read_text().replace("Fixed Frame: odom", "Fixed Frame: map"))
     got = points(grade(REGISTRY.get("ex2_package"), sub, public=True))
     assert got == {"2.1": 0, "2.2": 30, "2.3": 15, "2.4": 10}
+
+
+# -- 2.2's source checks accept every correct form (docs/grading.md, "Source checks") ------------
+
+from ddes.grading.exercise import Facts  # noqa: E402
+from ddes.grading.exercises.common import (  # noqa: E402
+    argument,
+    bound_to_self,
+    rospy_subscribers,
+    student_script,
+)
+from ddes.grading.exercises.ex2_package import check_structure  # noqa: E402
+
+ME = "/smb_highlevel_controller"
+HEAD = "import rospy\nfrom sensor_msgs.msg import LaserScan\n"
+
+
+def source_facts(root: Path, files: dict[str, str]) -> Facts:
+    """Facts of a submission made of ``files`` that read the node's private ~scan_topic (only
+    the source checks and the parameters read are used)."""
+    for rel, text in files.items():
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        (root / rel).write_text(text)
+    return Facts(exercise=None, scenario=None, world=None, outcome=None, refused=[],
+                 submission=root, student_nodes=[ME],
+                 param_reads=[(0, ME, f"{ME}/scan_topic", True)])
+
+
+def with_reference(tmp_path: Path, node: str, extra: dict[str, str] | None = None) -> Facts:
+    root = tmp_path / "submission"
+    shutil.copytree(SOLUTION, root)
+    return source_facts(root, {NODE: node, **(extra or {})})
+
+
+def bound_subscribers(facts: Facts) -> list[bool]:
+    node = student_script(facts, NODE)
+    return [bound_to_self(src, argument(c, 2, "callback"), m)
+            for src, c, m in rospy_subscribers(node)]
+
+
+CLASS = '''
+class Controller:
+    def __init__(self):
+        self.topic = rospy.get_param("~scan_topic")
+        {sub}
+
+    def on_scan(self, scan, extra=None):
+        pass
+
+
+def plain(scan):
+    pass
+
+
+if __name__ == "__main__":
+    rospy.init_node("smb_highlevel_controller")
+    Controller()
+    rospy.spin()
+'''
+
+
+@pytest.mark.parametrize("sub, bound", [
+    ("rospy.Subscriber(self.topic, LaserScan, self.on_scan)", True),
+    ("rospy.Subscriber(self.topic, LaserScan, callback=self.on_scan, queue_size=1)", True),
+    ("rospy.Subscriber(self.topic, LaserScan, lambda scan: self.on_scan(scan))", True),
+    ("rospy.Subscriber(self.topic, LaserScan, functools.partial(self.on_scan, extra=1))", True),
+    ("rospy.Subscriber(self.topic, LaserScan, partial(self.on_scan))", True),
+    ("rospy.Subscriber(self.topic, LaserScan, getattr(self, 'on_scan'))", True),
+    ("cb = self.on_scan; rospy.Subscriber(self.topic, LaserScan, cb)", True),
+    ("Sub(self.topic, LaserScan, self.on_scan)", True),
+    ("r.Subscriber(self.topic, LaserScan, self.on_scan)", True),
+    ("rospy.Subscriber(self.topic, LaserScan, plain)", False),
+    ("rospy.Subscriber(self.topic, LaserScan, lambda scan: plain(scan))", False),
+    ("cb = plain; rospy.Subscriber(self.topic, LaserScan, cb)", False),
+])
+def test_a_subscriber_bound_to_a_method_in_any_spelling(tmp_path: Path, sub: str,
+                                                        bound: bool) -> None:
+    head = (HEAD + "import functools\nfrom functools import partial\nimport rospy as r\n"
+            "from rospy import Subscriber as Sub\n")
+    facts = source_facts(tmp_path, {NODE: head + CLASS.format(sub=sub)})
+    assert bound_subscribers(facts) == [bound]
+
+
+@pytest.mark.parametrize("files", [
+    {  # from the package's module
+        NODE: HEAD + "from smb_highlevel_controller.node import Controller\n"
+        "rospy.init_node('smb_highlevel_controller')\nController()\nrospy.spin()\n"},
+    {  # the module under an alias
+        NODE: HEAD + "import smb_highlevel_controller.node as n\n"
+        "def main():\n    n.Controller()\n    rospy.spin()\n\nmain()\n"},
+    {  # re-exported by the package's __init__
+        NODE: HEAD + "from smb_highlevel_controller import Controller as C\nC()\n",
+        "smb_highlevel_controller/src/smb_highlevel_controller/__init__.py":
+            "from .node import Controller\n"},
+    {  # a class of the script inheriting the module's
+        NODE: HEAD + "from smb_highlevel_controller.node import Controller\n"
+        "class Mine(Controller):\n    pass\n\nMine()\n"},
+])
+def test_the_class_may_come_from_a_module_of_the_package(tmp_path: Path,
+                                                        files: dict[str, str]) -> None:
+    module = "smb_highlevel_controller/src/smb_highlevel_controller/node.py"
+    sub = ("self.sub = rospy.Subscriber(self.topic, LaserScan, self.on_scan)\n"
+           "        smallest_range([1.0], 0.0, 2.0)")
+    klass = CLASS.format(sub=sub).split("\n\ndef plain")[0]
+    facts = with_reference(tmp_path, "", {
+        module: HEAD + "from .algorithm import smallest_range\n" + klass, **files})
+    node = student_script(facts, NODE)
+    assert node.built and "Controller" in [c.name for _s, c in node.classes]
+    assert bound_subscribers(facts) == [True]
+    points, lines = check_structure(facts)
+    assert points == 30, lines
+
+
+def test_a_class_that_is_not_built_or_not_there_loses(tmp_path: Path) -> None:
+    facts = with_reference(tmp_path, HEAD + "from smb_highlevel_controller.node import X\n"
+                           "X()\n")  # no such module: nothing to resolve
+    points, lines = check_structure(facts)
+    assert "does not define (or import) a class" in "\n".join(lines)
+    assert points <= 12
+
+
+@pytest.mark.parametrize("imports, call, used", [
+    ("from smb_highlevel_controller.algorithm import smallest_range", "smallest_range", True),
+    ("from smb_highlevel_controller.algorithm import smallest_range as low", "low", True),
+    ("import smb_highlevel_controller.algorithm as alg", "alg.smallest_range", True),
+    ("from smb_highlevel_controller import algorithm", "algorithm.smallest_range", True),
+    ("import smb_highlevel_controller.algorithm", "smb_highlevel_controller.algorithm."
+     "smallest_range", True),
+    ("from smb_highlevel_controller.algorithm import *", "smallest_range", True),
+    ("from math import fsum as low", "low", False),
+])
+def test_the_algorithm_called_through_any_import(tmp_path: Path, imports: str, call: str,
+                                                 used: bool) -> None:
+    sub = (f"self.sub = rospy.Subscriber(self.topic, LaserScan, self.on_scan)\n"
+           f"        {call}([1.0], 0.0, 2.0)")
+    facts = with_reference(tmp_path, HEAD + imports + "\n" + CLASS.format(sub=sub))
+    points, lines = check_structure(facts)
+    assert (points == 30) is used, lines
+    if not used:
+        assert "the class calls no function of algorithm.py" in lines

@@ -109,3 +109,58 @@ def test_hard_coded_gain_loses_the_p_law_in_hidden_scenarios(tmp_path):
     # the public scenario uses the student's own 1.0; the two hidden ones another gain
     assert got["3.1"] == pytest.approx(5 + 15 / 3, abs=1e-3), got
     assert got["3.3"] == 17 and got["3.4"] == 30
+
+
+# -- 3.3's source facts in any spelling (docs/grading.md, "Source checks") -----------------------
+
+from ddes.grading.exercise import Facts  # noqa: E402
+from ddes.grading.exercises.common import (  # noqa: E402
+    argument,
+    bound_to_self,
+    rospy_subscribers,
+    student_script,
+)
+
+SCRIPT_3 = '''import message_filters
+import rospy
+import tf2_ros as tf
+from functools import partial
+from geometry_msgs.msg import Twist
+from rospy import Publisher as Pub
+from sensor_msgs.msg import LaserScan
+
+
+class Controller:
+    def __init__(self):
+        self.cmd = Pub("/cmd_vel", data_class=Twist, queue_size=1)
+        self.listener = tf.TransformListener(tf.Buffer())
+        self.synced = message_filters.Subscriber("/scan", LaserScan)
+        self.sub = rospy.Subscriber("/scan", LaserScan, partial(self.on_scan))
+
+    def on_scan(self, scan):
+        pass
+
+
+if __name__ == "__main__":
+    rospy.init_node("smb_highlevel_controller")
+    Controller()
+    {main}
+'''
+
+
+def test_the_structure_s_source_facts_in_any_spelling(tmp_path: Path) -> None:
+    for name, main, in_main in (("a", "rospy.spin()", set()),
+                                ("b", "marker = rospy.Publisher('m', object)", {"Publisher"})):
+        root = tmp_path / name
+        (root / NODE).parent.mkdir(parents=True)
+        (root / NODE).write_text(SCRIPT_3.format(main=main))
+        facts = Facts(exercise=None, scenario=None, world=None, outcome=None, refused=[],
+                      submission=root, student_nodes=[])
+        node = student_script(facts, NODE)
+        made = {src.called(c) for src, c, _m in node.class_calls()}
+        assert {"Publisher", "TransformListener", "Buffer"} <= made
+        # message_filters' Subscriber takes no callback: only rospy's counts
+        subs = rospy_subscribers(node)
+        assert len(subs) == 1
+        assert all(bound_to_self(s, argument(c, 2, "callback"), m) for s, c, m in subs)
+        assert node.main_called() & {"Publisher", "Buffer", "TransformListener"} == in_main

@@ -70,3 +70,80 @@ def test_hidden_scenarios_come_from_the_seed() -> None:
     a, b = scenarios(5, False), scenarios(5, False)
     assert a == b and a[1].params != scenarios(6, False)[1].params
     assert a[1].params["service"] != a[2].params["service"] or a[1].params != a[2].params
+
+
+# -- 4a.1's class rule accepts every correct form (docs/grading.md, "Source checks") -------------
+
+import pytest  # noqa: E402
+
+from ddes.grading.exercise import Facts  # noqa: E402
+from ddes.grading.exercises.ex4a_services import _class_rule  # noqa: E402
+
+ME = "/smb_highlevel_controller"
+NODE_CLASS = '''import functools
+import rospy
+import rospy as r
+from rospy import Service as RosService
+from std_srvs.srv import SetBool
+
+
+class Controller:
+    def __init__(self):
+        self.name = rospy.get_param({param})
+        {service}
+
+    def stop(self, request):
+        pass
+
+
+def handler(request):
+    pass
+
+
+if __name__ == "__main__":
+    rospy.init_node("smb_highlevel_controller")
+    controller = Controller()
+    {main}
+    rospy.spin()
+'''
+
+
+def rule(tmp_path: Path, service: str, main: str = "pass",
+         param: str = '"~stop_service_name"', read: str = "stop_service_name") -> str:
+    (tmp_path / NODE).parent.mkdir(parents=True)
+    (tmp_path / NODE).write_text(NODE_CLASS.format(service=service, main=main, param=param))
+    facts = Facts(exercise=None, scenario=None, world=None, outcome=None, refused=[],
+                  submission=tmp_path, student_nodes=[ME],
+                  param_reads=[(0, ME, f"{ME}/{read}", True)])
+    return _class_rule(facts)
+
+
+@pytest.mark.parametrize("service", [
+    "rospy.Service(self.name, SetBool, self.stop)",
+    "rospy.Service(self.name, SetBool, handler=self.stop)",
+    "RosService(self.name, SetBool, handler=lambda req: self.stop(req))",
+    "r.Service(self.name, SetBool, functools.partial(self.stop))",
+    "cb = self.stop; self.srv = rospy.Service(self.name, SetBool, cb)",
+])
+def test_the_class_s_service_in_any_spelling(tmp_path: Path, service: str) -> None:
+    assert rule(tmp_path, service) == ""
+
+
+def test_the_parameter_read_by_any_name(tmp_path: Path) -> None:
+    service = "rospy.Service(self.name, SetBool, self.stop)"
+    assert rule(tmp_path, service, param='rospy.get_name() + "/stop_service_name"') == ""
+    assert "does not read the private parameter" in rule(tmp_path / "b", service,
+                                                         read="other")
+
+
+@pytest.mark.parametrize("service, main, why", [
+    ("rospy.Service(self.name, SetBool, handler)", "pass", "one of its methods"),
+    ("rospy.Service(self.name, SetBool, lambda req: handler(req))", "pass",
+     "one of its methods"),
+    ("pass", "rospy.Service('/estop', SetBool, controller.stop)", "main part advertises"),
+    ("pass", "RosService('/estop', SetBool, controller.stop)", "main part advertises"),
+    ("pass", "pass", "advertises no Service"),
+])
+def test_a_service_outside_the_class_or_not_bound_loses(tmp_path: Path, service: str,
+                                                        main: str, why: str) -> None:
+    assert why in rule(tmp_path, service, main)

@@ -60,3 +60,53 @@ def test_the_run_ends_when_the_schedule_is_over() -> None:
 def test_starter_scores_at_most_20_percent() -> None:
     report = grade(EX, STARTER)
     assert report.percent <= 20.0, report.to_text()
+
+
+# -- the class rule of 4b.1 and 4b.7 accepts every correct form (docs/grading.md) ----------------
+
+import pytest  # noqa: E402
+
+from ddes.grading.exercise import Facts  # noqa: E402
+from ddes.grading.exercises.ex4b_actions import _CLIENT_CALLS, _class_rule  # noqa: E402
+
+CLIENT_SCRIPT = '''import actionlib
+import actionlib as al
+import rospy
+from actionlib import SimpleActionClient as Client
+
+
+class FollowPathClient:
+    def __init__(self):
+        self.client = actionlib.SimpleActionClient("follow_path", object)
+
+    def send_goal(self):
+        self.client.send_goal(None)
+
+    def wait_for_result(self):
+        return self.client.wait_for_result()
+
+
+if __name__ == "__main__":
+    rospy.init_node("follow_path_client")
+{main}
+'''
+
+
+@pytest.mark.parametrize("main, why", [
+    ("    FollowPathClient().send_goal()", ""),
+    ("    client = FollowPathClient()\n    client.send_goal()\n    client.wait_for_result()", ""),
+    ("    def main():\n        c = FollowPathClient()\n        c.send_goal()\n    main()", ""),
+    ("    client = FollowPathClient()\n    client.client.send_goal(None)", "send_goal"),
+    ("    FollowPathClient()\n    al.SimpleActionClient('x', object)", "SimpleActionClient"),
+    ("    FollowPathClient()\n    Client('x', object).wait_for_server()",
+     "SimpleActionClient, wait_for_server"),
+    ("    rospy.spin()", "does not define (or import) a class"),
+])
+def test_the_client_s_main_part(tmp_path: Path, main: str, why: str) -> None:
+    rel = tmp_path / "smb_follow_path" / "scripts" / "follow_path_client.py"
+    rel.parent.mkdir(parents=True)
+    rel.write_text(CLIENT_SCRIPT.format(main=main))
+    facts = Facts(exercise=None, scenario=None, world=None, outcome=None, refused=[],
+                  submission=tmp_path, student_nodes=[])
+    got = _class_rule(facts, "follow_path_client.py", _CLIENT_CALLS)
+    assert (why in got and got != "") if why else got == "", got

@@ -25,11 +25,13 @@ from ddes.grading.exercise import Criterion, Facts, Scenario
 from ddes.grading.exercises.common import (
     NUMBER,
     add_driver,
+    argument,
+    bound_to_self,
     call_name,
-    calls_in,
-    class_names,
     launch_problem,
+    rospy_subscribers,
     student_logs,
+    student_script,
     student_subscriptions,
 )
 from ddes.graph.yamlsafe import load_yaml
@@ -191,20 +193,15 @@ def check_structure(facts: Facts) -> tuple[float, list[str]]:
     points += 6 if ok else 0
     lines += [why] if why else []
     script = f"{PKG}/scripts/{NODE_TYPE}"
-    tree = parse_source(facts, script)
-    if tree is None:
+    node = student_script(facts, script)
+    if node is None:
         return points, [*lines, f"{script} is missing or does not parse"]
-    classes = [n for n in tree.body if isinstance(n, ast.ClassDef)]
-    names = class_names(tree)
-    outside = [n for n in tree.body if not isinstance(n, (ast.ClassDef, ast.FunctionDef))]
-    built = any(call_name(c) in names for n in outside for c in calls_in(n)) or any(
-        call_name(c) in names for n in tree.body if isinstance(n, ast.FunctionDef)
-        for c in calls_in(n))
-    if classes and built:
+    # the class may live in the script or in a module of the package it imports
+    if node.classes and node.built:
         points += 6
     else:
-        lines.append("the node script does not define a class and build it in its main part")
-    in_class = [c for cls in classes for c in calls_in(cls)]
+        lines.append("the node script does not define (or import) a class and build it in its "
+                     "main part")
     private, other = private_reads(facts)
     if private:
         points += 6
@@ -213,13 +210,9 @@ def check_structure(facts: Facts) -> tuple[float, list[str]]:
                      "own (~name, which follows the node's name and namespace)")
     else:
         lines.append("your node read no private parameter (rospy.get_param('~name'))")
-    bound = False
-    for c in in_class:
-        if call_name(c) == "Subscriber":
-            cb = c.args[2] if len(c.args) > 2 else next(
-                (k.value for k in c.keywords if k.arg == "callback"), None)
-            bound |= (isinstance(cb, ast.Attribute) and isinstance(cb.value, ast.Name)
-                      and cb.value.id == "self")
+    # self.cb, functools.partial(self.cb, ...), lambda msg: self.cb(msg), a name holding one
+    bound = any(bound_to_self(src, argument(c, 2, "callback"), method)
+                for src, c, method in rospy_subscribers(node))
     if bound:
         points += 6
     else:
@@ -234,7 +227,10 @@ def check_structure(facts: Facts) -> tuple[float, list[str]]:
     ros = [m for m in ros if m.split(".")[0] in ("rospy", "ddes", "sensor_msgs", "std_msgs",
                                                  "geometry_msgs")]
     funcs = {n.name for n in algo.body if isinstance(n, ast.FunctionDef)}
-    used = any(call_name(c) in funcs for c in in_class)
+    # a call the imports resolve to algorithm.py (``from ...algorithm import f as g``,
+    # ``import ...algorithm as alg; alg.f()``), or one of its functions by name
+    used = any(call_name(c) in funcs or node.target_file(src, c) == ALGORITHM
+               for src, c, _m in node.class_calls())
     if not ros and used:
         points += 6
     else:

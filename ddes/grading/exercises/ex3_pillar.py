@@ -10,7 +10,6 @@ collisions, the grader's own TF buffer (a listener on the simulator's ``/tf`` an
 
 from __future__ import annotations
 
-import ast
 import math
 from typing import Any
 
@@ -20,11 +19,19 @@ from ddes.grading.course import (
     CourseExercise,
     hidden_random,
     notes,
-    parse_source,
     rviz_displays,
 )
 from ddes.grading.exercise import Criterion, Facts, Scenario
-from ddes.grading.exercises.common import call_name, calls_in, class_names, launch_problem
+from ddes.grading.exercises.common import (
+    PARAM_CALLS,
+    argument,
+    bound_to_self,
+    launch_problem,
+    private_param_reads,
+    read_private,
+    rospy_subscribers,
+    student_script,
+)
 from ddes.transformations import cos, sin
 
 __all__ = ["EX3"]
@@ -42,6 +49,8 @@ P_TOL_ABS, P_TOL_REL = 1e-3, 0.01
 MARKER_TOL = 0.15
 W_MAX = 1.1  # the SMB's turn-rate limit: a command saturated there is accepted
 MARKER_TYPE = "visualization_msgs/Marker"
+#: hidden-1's pillar bearing (rad, either side): a large turn, where a wrong rotation shows.
+WIDE_BEARING = (1.2, 1.45)
 SPHERE = 2
 
 
@@ -59,6 +68,10 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
         out.append(Scenario(f"hidden-{i + 1}", seed, hidden=True, params={
             "x": 0.0, "y": 0.0, "yaw": yaw, "pillar": (cx, cy, radius),
             "p_gain": round(rng.uniform(0.6, 1.8), 3)}))
+        if i == 0:  # the pillar far to the side: the robot turns by 1.2-1.45 rad towards it
+            wide = round(math.copysign(rng.uniform(*WIDE_BEARING), bearing), 3)  # drawn last
+            out[-1].params["pillar"] = (round(dist * cos(yaw + wide), 3),
+                                        round(dist * sin(yaw + wide), 3), radius)
     return out
 
 
@@ -246,54 +259,53 @@ def _rviz(facts: Facts) -> tuple[float, list[str]]:
     return points, lines
 
 
-def _class_calls(tree: ast.Module) -> list[ast.Call]:
-    return [c for cls in tree.body if isinstance(cls, ast.ClassDef) for c in calls_in(cls)]
+def _advertised(facts: Facts) -> set[str]:
+    """The message types the student's nodes advertise (the grader's master)."""
+    return {entry.type for entry in facts.world.master.topics.values()
+            if any(p.node.name in facts.student_nodes for p in entry.publishers)}
 
 
 def _structure(facts: Facts) -> tuple[float, list[str]]:
-    tree = parse_source(facts, SCRIPT)
-    if tree is None:
+    """The node's structure: a class the main part builds (defined in the script or imported
+    from the package), its Subscribers bound to its methods, its parameters private, its
+    publishers and TF listener made by the class.  Read with :mod:`ast` where only the source
+    can tell (where the code is, what a callback is bound to); the parameters read, the types
+    advertised and the /tf subscription are facts of the run."""
+    node = student_script(facts, SCRIPT)
+    if node is None:
         return 0.0, [f"{SCRIPT} is missing or does not parse"]
     points, lines = 0.0, []
-    names = class_names(tree)
-    built = any(call_name(c) in names for n in tree.body if not isinstance(n, ast.ClassDef)
-                for c in calls_in(n))
-    if names and built:
+    if node.classes and node.built:
         points += 3
     else:
-        lines.append("the node script does not define a class and build it in its main part")
-    in_class = _class_calls(tree)
-    subs = [c for c in in_class if call_name(c) == "Subscriber"]
-    bound = bool(subs)
-    for c in subs:
-        cb = c.args[2] if len(c.args) > 2 else next(
-            (k.value for k in c.keywords if k.arg == "callback"), None)
-        bound &= (isinstance(cb, ast.Attribute) and isinstance(cb.value, ast.Name)
-                  and cb.value.id == "self")
-    if bound:
+        lines.append("the node script does not define (or import) a class and build it in its "
+                     "main part")
+    subs = rospy_subscribers(node)
+    if subs and all(bound_to_self(src, argument(c, 2, "callback"), method)
+                    for src, c, method in subs):
         points += 3
     else:
         lines.append("the class creates no Subscriber, or one whose callback is not one of its "
                      "methods (self.scan_callback)")
-    params = [c for c in calls_in(tree) if call_name(c) == "get_param"]
-    keys = [c.args[0].value for c in params
-            if c.args and isinstance(c.args[0], ast.Constant) and isinstance(c.args[0].value, str)]
-    private = (bool(params) and len(keys) == len(params) and all(k.startswith("~") for k in keys)
-               and "~p_gain" in keys and any(c in in_class for c in params))
-    if private:
+    private, other = private_param_reads(facts)
+    in_class = any(src.called(c) in PARAM_CALLS for src, c, _m in node.class_calls())
+    if read_private(facts, "p_gain") and not other and in_class:
         points += 3
     else:
+        where = "" if in_class else "; the class reads none itself"
         lines.append("the class must read its parameters as private names, ~p_gain among them "
-                     f"(found: {', '.join(map(repr, keys)) or 'none'})")
-    made = {call_name(c) for c in in_class}
-    pubs = {a.id if isinstance(a, ast.Name) else getattr(a, "attr", "")
-            for c in in_class if call_name(c) == "Publisher" and len(c.args) > 1
-            for a in [c.args[1]]}
-    if {"Twist", "Marker"} <= pubs and {"Buffer", "TransformListener"} <= made:
+                     f"(your node read: {', '.join([*private, *other]) or 'none'}{where})")
+    made = {src.called(c) for src, c, _m in node.class_calls()}
+    in_main = sorted(node.main_called() & {"Publisher", "Buffer", "TransformListener"})
+    listens = any(s.node.name in facts.student_nodes
+                  for s in getattr(facts.world.master.topics.get("/tf"), "subscribers", []))
+    if ({"geometry_msgs/Twist", MARKER_TYPE} <= _advertised(facts) and listens and not in_main
+            and {"Publisher", "TransformListener"} <= made):
         points += 3
     else:
         lines.append("the class must create Publishers of Twist and Marker and a tf2_ros Buffer "
-                     "with a TransformListener")
+                     "with a TransformListener" + (f" (the main part calls {', '.join(in_main)})"
+                                                   if in_main else ""))
     return points, lines
 
 
@@ -373,8 +385,12 @@ def check_marker(facts: Facts) -> tuple[float, list[str]]:
         frame = m.header.frame_id.lstrip("/")
         pos = m.pose.position
         miss = ""
+        sc = m.scale
         if frame != "odom":
             miss = f"its frame is {frame!r}, not 'odom'"
+        elif min(sc.x, sc.y, sc.z) <= 0 or m.color.a <= 0:
+            miss = (f"has scale ({sc.x:g}, {sc.y:g}, {sc.z:g}) and colour alpha {m.color.a:g}: "
+                    "RViz draws nothing (each must be above 0)")
         else:
             try:
                 w = _to_world(buffer, truth, frame, stamp, (pos.x, pos.y, pos.z))
@@ -410,7 +426,8 @@ EX3 = CourseExercise(
         Criterion("3.3", "RViz set-up (TF, RobotModel, LaserScan, Marker) and the node's "
                   "structure (class, bound callbacks, private parameters)", 20, check_setup,
                   credit=CREDIT),
-        Criterion("3.4", "the marker sits on the pillar, in odom, at 1 Hz or more", 30,
+        Criterion("3.4", "the marker sits on the pillar, in odom, visible (scale and alpha above "
+                  "0), at 1 Hz or more", 30,
                   check_marker, credit=CREDIT),
     ),
     scripts=(),

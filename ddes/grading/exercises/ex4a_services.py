@@ -10,14 +10,14 @@ truth (true speed and position).  The console script is read as text and run by 
 node line by line (``rosservice call NAME YAML...`` filled as rosservice fills it, ``sleep S``).
 The polarity follows the lecture-5 emergency stop: ``data: true`` stops, ``data: false``
 resumes.  The course's rule "logic in the class" (teaching.md's C0, -20 %) is graded as part of
-4a.1's "the service exists" share (5 points): read with :mod:`ast`, the class must read
-``~stop_service_name`` and advertise the Service with one of its methods as the handler, and the
-main part only build the class.
+4a.1's "the service exists" share (5 points): read with :mod:`ast`, the class must advertise
+the Service with one of its methods as the handler and read a parameter, and the main part only
+build the class; that the node read its private ``~stop_service_name`` is a fact of the run (see
+docs/grading.md, "Source checks", for the forms accepted).
 """
 
 from __future__ import annotations
 
-import ast
 import math
 import shlex
 from dataclasses import dataclass
@@ -26,9 +26,16 @@ from typing import Any
 
 import yaml
 
-from ddes.grading.course import CourseExercise, hidden_random, notes, parse_source
+from ddes.grading.course import CourseExercise, hidden_random, notes
 from ddes.grading.exercise import Criterion, Facts, Scenario
-from ddes.grading.exercises.common import call_name, calls_in, class_names, launch_problem
+from ddes.grading.exercises.common import (
+    PARAM_CALLS,
+    argument,
+    bound_to_self,
+    launch_problem,
+    read_private,
+    student_script,
+)
 from ddes.transformations import cos, sin
 
 __all__ = ["EX4A", "parse_script", "scenarios"]
@@ -51,12 +58,19 @@ ZERO_WITHIN = 0.15
 #: Non-zero Twists again within this long of a resume.
 RESUME_WITHIN = 0.3
 STOP_SPEED, STOP_WITHIN = 0.05, 1.0
+#: ... and its true turn rate below this (rad/s) as well.
+STOP_TURN = 0.05
+#: Public: ``TURN_LEAD`` s before the second stop a pillar appears ``TURN_PILLAR[0]`` m from the
+#: robot at bearing ``TURN_PILLAR[1]`` rad (radius ``TURN_PILLAR[2]``), closer than the far
+#: pillar, so that the robot is turning towards it when the stop comes.
+TURN_LEAD, TURN_PILLAR = 0.4, (9.0, 1.0, 0.3)
 MOVE_DIST, MOVE_WITHIN = 0.3, 2.0
 SETBOOL = "std_srvs/SetBool"
 
 
 def scenarios(seed: int, public: bool) -> list[Scenario]:
-    out = [Scenario("public", seed, params={"start": PUBLIC_START, "times": PUBLIC_TIMES})]
+    out = [Scenario("public", seed, params={"start": PUBLIC_START, "times": PUBLIC_TIMES,
+                                            "turn": (TURN_LEAD, *TURN_PILLAR)})]
     for i in range(2):
         rng = hidden_random(f"ex4a_services/{i}", seed)
         yaw = round(rng.uniform(-3.0, 3.0), 3)
@@ -72,6 +86,10 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
             "start": (0.0, 0.0, yaw), "times": (t1, t2, t3, t4), "service": name,
             "pillar": (round(dist * cos(yaw + bearing), 3), round(dist * sin(yaw + bearing), 3),
                        radius)}))
+        # drawn after the others, so that those keep their values
+        out[-1].params["turn"] = (round(rng.uniform(0.3, 0.5), 3), round(rng.uniform(8.5, 9.5), 3),
+                                  round(rng.choice([-1, 1]) * rng.uniform(0.9, 1.2), 3),
+                                  round(rng.uniform(0.2, 0.4), 3))
     return out
 
 
@@ -186,6 +204,20 @@ def _start_driver(world: Any, scenario: Scenario, script: list[ScriptLine],
         target = name if line.name == configured else line.name  # substituted by value
         plan.append((t, f"script line {line.number}", target, line.data))
 
+    def turn():  # type: ignore[no-untyped-def]
+        from ddes.sim import Circle
+
+        lead, dist, bearing, radius = p["turn"]
+        stops = [t for i, t in enumerate(p["times"]) if i % 2 == 0]
+        wait_ns = round((stops[1] - lead) * 1e9) - world.now
+        if wait_ns > 0:
+            yield node.sleep(wait_ns / 1e9)
+        sim = notes(world).sim
+        if sim is not None:
+            t = sim.truth
+            sim.add(Circle(t.x + dist * cos(t.yaw + bearing), t.y + dist * sin(t.yaw + bearing),
+                           radius, "turn_pillar"))
+
     def drive():  # type: ignore[no-untyped-def]
         for at, source, target, data in plan:
             wait_ns = round(at * 1e9) - world.now  # the plan is in s, world.now in ns
@@ -201,6 +233,8 @@ def _start_driver(world: Any, scenario: Scenario, script: list[ScriptLine],
             rec.done_ns = world.now
 
     node.process(drive())
+    if "turn" in p:
+        node.process(turn())
 
 
 def _configured_name(world: Any) -> str:
@@ -262,12 +296,21 @@ def _twist_after_stop(facts: Facts, recs: list[CallRecord], i: int) -> str:
     r = recs[i]
     end = _next_change(recs, i, int(DURATION * 1e9))
     tw = [(t, mv) for t, mv in _twists(facts) if r.t_ns <= t < end]
-    if not any(not mv and t <= r.t_ns + ZERO_WITHIN * 1e9 for t, mv in tw):
+    zeros = [t for t, mv in tw if not mv and t <= r.t_ns + ZERO_WITHIN * 1e9]
+    if not zeros:
         return (f"{r.source}: no zero Twist on /cmd_vel within {ZERO_WITHIN:g} s of the stop at "
                 f"t={r.t_ns / 1e9:.2f} s")
+    if zeros[0] > r.done_ns:  # "at once": published by the stop call, before it answers
+        return (f"{r.source}: the stop at t={r.t_ns / 1e9:.3f} s was answered at "
+                f"t={r.done_ns / 1e9:.3f} s, but the first zero Twist came only at "
+                f"t={zeros[0] / 1e9:.3f} s; publish it at once, in the stop call, before it "
+                "answers")
     late = [t for t, mv in tw if mv and t > r.done_ns]  # once the stop has been answered
     if late:
-        return (f"{r.source}: a non-zero Twist at t={late[0] / 1e9:.2f} s after the stop at "
+        m = next(m for t, who, m in facts.messages("/cmd_vel")
+                 if t == late[0] and who in facts.student_nodes)
+        return (f"{r.source}: a driving command (linear.x {m.linear.x:.2f} m/s, angular.z "
+                f"{m.angular.z:.2f} rad/s) at t={late[0] / 1e9:.2f} s after the stop at "
                 f"t={r.t_ns / 1e9:.2f} s and before any resume")
     return ""
 
@@ -300,6 +343,13 @@ def _stops(facts: Facts, recs: list[CallRecord], i: int) -> str:
         t, v = fast[0]
         return (f"{r.source}: true speed {v:.2f} m/s at t={t / 1e9:.2f} s, {STOP_WITHIN:g} s or "
                 f"more after the stop at t={r.t_ns / 1e9:.2f} s (below {STOP_SPEED} m/s wanted)")
+    turning = [(t, abs(w)) for t, w in zip(h.t_ns, h.w)
+               if settle <= t < end and abs(w) >= STOP_TURN]
+    if turning:
+        t, w = turning[0]
+        return (f"{r.source}: at t={t / 1e9:.2f} s, {STOP_WITHIN:g} s or more after the stop at "
+                f"t={r.t_ns / 1e9:.2f} s, the robot was still turning at {w:.2f} rad/s (below "
+                f"{STOP_TURN} rad/s wanted)")
     return ""
 
 
@@ -331,31 +381,29 @@ NODE_SCRIPT = f"{PKG}/scripts/{NODE_TYPE}"
 
 def _class_rule(facts: Facts) -> str:
     """Why the node script breaks the course's rule "logic in the class" for the stop (empty
-    when it keeps it): read with :mod:`ast`, never imported.  The class reads
-    ``~stop_service_name`` and advertises the Service with one of its methods as the handler;
-    the main part builds the class and advertises no Service itself."""
-    tree = parse_source(facts, NODE_SCRIPT)
-    if tree is None:
+    when it keeps it): read with :mod:`ast`, never imported.  The class (defined in the script
+    or imported from the package) advertises the Service with one of its methods as the
+    handler, and reads a parameter; the main part builds the class and advertises no Service
+    itself; the node read its private ``~stop_service_name`` (a fact of the run, in any
+    spelling of the name)."""
+    node = student_script(facts, NODE_SCRIPT)
+    if node is None:
         return f"{NODE_SCRIPT} is missing or does not parse"
-    names = class_names(tree)
-    outside = [n for n in tree.body if not isinstance(n, ast.ClassDef)]
-    if not names or not any(call_name(c) in names for n in outside for c in calls_in(n)):
-        return "the node script does not define a class and build it in its main part"
-    if any(call_name(c) == "Service" for n in outside for c in calls_in(n)):
+    if not node.classes or not node.built:
+        return "the node script does not define (or import) a class and build it in its main part"
+    if "Service" in node.main_called():
         return "the main part advertises the Service; keep all logic in the class"
-    in_class = [c for n in tree.body if isinstance(n, ast.ClassDef) for c in calls_in(n)]
-    services = [c for c in in_class if call_name(c) == "Service"]
-    for c in services:
-        handler = c.args[2] if len(c.args) > 2 else next(
-            (k.value for k in c.keywords if k.arg == "handler"), None)
-        if not (isinstance(handler, ast.Attribute) and isinstance(handler.value, ast.Name)
-                and handler.value.id == "self"):
+    calls = node.class_calls()
+    services = [(src, c, m) for src, c, m in calls if src.called(c) == "Service"]
+    for src, c, method in services:
+        # self.cb, functools.partial(self.cb, ...), lambda req: self.cb(req), a name holding one
+        if not bound_to_self(src, argument(c, 2, "handler"), method):
             return "the class's Service must have one of its methods as the handler " \
                    "(self.stop_callback)"
     if not services:
         return "the class advertises no Service"
-    if not any(call_name(c) == "get_param" and c.args and isinstance(c.args[0], ast.Constant)
-               and c.args[0].value == f"~{PARAM}" for c in in_class):
+    if not (read_private(facts, PARAM) and any(src.called(c) in PARAM_CALLS
+                                               for src, c, _m in calls)):
         return f"the class does not read the private parameter ~{PARAM}"
     return ""
 
@@ -472,7 +520,8 @@ EX4A = _Ex4a(
         Criterion("4a.2", "stop called correctly: the console script's 'rosservice call ... "
                   "\"data: true\"' is well-formed and stops the robot", 20, check_script_stop,
                   credit=CREDIT),
-        Criterion("4a.3", "the robot actually stops (true speed below 0.05 m/s within 1 s)", 10,
+        Criterion("4a.3", "the robot actually stops (true speed below 0.05 m/s and turn rate "
+                  "below 0.05 rad/s within 1 s)", 10,
                   check_robot_stops, credit=CREDIT),
         Criterion("4a.4", "start implemented: data false answers success and the controller "
                   "drives again at once", 20, check_start, credit=CREDIT),

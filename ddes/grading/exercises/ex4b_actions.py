@@ -49,21 +49,19 @@ stays in the child, so the grader reads rospy's error texts for them from the st
 
 from __future__ import annotations
 
-import ast
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ddes._floats import left_sum
-from ddes.grading.course import CourseExercise, find_package, hidden_random, notes, parse_source
+from ddes.grading.course import CourseExercise, find_package, hidden_random, notes
 from ddes.grading.exercise import Criterion, Facts, Scenario
 from ddes.grading.exercises.common import (
-    call_name,
-    calls_in,
-    class_names,
     launch_problem,
+    relative,
     student_logs,
+    student_script,
 )
 from ddes.transformations import cos, sin
 
@@ -518,18 +516,18 @@ _CLIENT_CALLS = ("SimpleActionClient", "ActionClient", "wait_for_server", "send_
 
 def _class_rule(facts: Facts, script: str, calls: tuple[str, ...]) -> str:
     """Why ``scripts/<script>`` breaks the course's rule "logic in the class" (empty when it
-    keeps it): read with :mod:`ast`, never imported.  The script defines a class, its main part
-    (everything outside the classes) builds it and calls none of ``calls``."""
+    keeps it): read with :mod:`ast`, never imported.  The script defines a class or imports one
+    from the package, its main part (everything outside the script's classes) builds it and
+    calls none of ``calls`` in any spelling (``import actionlib as al``, ``from actionlib import
+    SimpleActionServer as Server``), except as methods of the student's own objects
+    (``client = FollowPathClient(); client.send_goal(...)`` is the class's logic)."""
     rel = f"{PKG}/scripts/{script}"
-    tree = parse_source(facts, rel)
-    if tree is None:
+    node = student_script(facts, rel)
+    if node is None:
         return f"{rel} is missing or does not parse"
-    names = class_names(tree)
-    outside = [n for n in tree.body if not isinstance(n, ast.ClassDef)]
-    made = {call_name(c) for n in outside for c in calls_in(n)}
-    if not names or not made & set(names):
-        return f"{script} does not define a class and build it in its main part"
-    bad = sorted(made & set(calls))
+    if not node.classes or not node.built:
+        return f"{script} does not define (or import) a class and build it in its main part"
+    bad = sorted(node.main_called() & set(calls))
     if bad:
         return f"{script}'s main part calls {', '.join(bad)}: keep all logic in the class"
     return ""
@@ -567,12 +565,44 @@ def check_server(facts: Facts) -> tuple[float, list[str]]:
 
 # -- 4b.2 following -----------------------------------------------------------------------------
 
+def _stops_at_end(facts: Facts, run: Run, g: Goal, what: str) -> str:
+    """Why the server did not stop the robot when ``g`` ended (empty when it did): a zero Twist
+    from the student's node within ZERO_TWIST_S of the result, and the robot at rest from
+    STOPPED_S after it until the next goal."""
+    res = _result(facts, run, g)
+    if res is None:
+        return f"{what}: no result"
+    t_end = res[0]
+    later = [x.sent_ns for x in run.goals if x.sent_ns > g.sent_ns]
+    until = min(later) if later else facts.world.now
+    zero = [t for t, who, m in facts.messages("/cmd_vel") if who in facts.student_nodes
+            and abs(t - t_end) <= int(ZERO_TWIST_S * SEC)
+            and m.linear.x == 0.0 and m.angular.z == 0.0]
+    truth = _truth_odom(facts)
+    v_end = next((abs(v) for t, _x, _y, _yaw, v in truth if t >= t_end), 0.0)
+    if not zero:
+        return (f"{what}: SUCCEEDED at t={t_end / 1e9:.2f} s with the robot driving at "
+                f"{v_end:.2f} m/s, but your node published no zero Twist on /cmd_vel within "
+                f"{ZERO_TWIST_S} s of it: stop the robot when the goal ends")
+    moving = [(t, v) for t, _x, _y, _yaw, v in truth
+              if t_end + int(STOPPED_S * SEC) <= t <= until and abs(v) > STOPPED_V]
+    if moving:
+        return (f"{what}: the robot still moves at {moving[0][1]:.2f} m/s "
+                f"{relative(moving[0][0] - t_end, 'the end of the goal')}")
+    return ""
+
+
 def check_follow(facts: Facts) -> tuple[float, list[str]]:
+    """20 for the path followed to SUCCEEDED, 5 for the robot stopped when it ends."""
     run, why = _run(facts)
     if run is None:
         return 0.0, [why]
-    ok, why = _followed(facts, run, _goal(run, "follow"), "the path")
-    return (25.0, []) if ok else (0.0, [why])
+    g = _goal(run, "follow")
+    ok, why = _followed(facts, run, g, "the path")
+    if not ok or g is None:
+        return 0.0, [why]
+    why = _stops_at_end(facts, run, g, "the path")
+    return (25.0, []) if not why else (20.0, [why])
 
 
 # -- 4b.3 feedback ------------------------------------------------------------------------------
@@ -677,7 +707,7 @@ def check_aborts(facts: Facts) -> tuple[float, list[str]]:
     elif res is None or res[1] != GoalStatus.ABORTED or res[2].success \
             or res[0] - hits[0].t_ns > ABORT_AFTER_CONTACT_S * SEC:
         got = "no result" if res is None else \
-            f"{_status_name(res[1])} {(res[0] - hits[0].t_ns) / 1e9:.2f} s after the contact"
+            f"{_status_name(res[1])} {relative(res[0] - hits[0].t_ns, 'the contact')}"
         lines.append(f"a path behind a pillar: {got}; expected ABORTED, success: false, within "
                      f"{ABORT_AFTER_CONTACT_S:g} s of the contact")
     else:
@@ -704,7 +734,7 @@ def check_preemption(facts: Facts) -> tuple[float, list[str]]:
             points += 4
         else:
             got = "no result" if res is None else \
-                f"{_status_name(res[1])} {(res[0] - g.cancel_ns) / 1e9:.2f} s after the cancel"
+                f"{_status_name(res[1])} {relative(res[0] - g.cancel_ns, 'the cancel')}"
             lines.append(f"cancel: {got}; expected PREEMPTED within 1 s")
         zero = [t for t, who, m in facts.messages("/cmd_vel") if who in facts.student_nodes
                 and g.cancel_ns <= t <= g.cancel_ns + int(ZERO_TWIST_S * SEC)
@@ -722,7 +752,7 @@ def check_preemption(facts: Facts) -> tuple[float, list[str]]:
                              f"{ZERO_TWIST_S} s of the cancel")
             if moving:
                 lines.append(f"cancel: the robot still moves at {moving[0][1]:.2f} m/s "
-                             f"{(moving[0][0] - g.cancel_ns) / 1e9:.2f} s after the cancel")
+                             f"{relative(moving[0][0] - g.cancel_ns, 'the cancel')}")
     old, new = _goal(run, "old"), _goal(run, "new")
     res = _result(facts, run, old) if old is not None else None
     if res is not None and res[1] == GoalStatus.PREEMPTED and new is not None \
@@ -730,7 +760,7 @@ def check_preemption(facts: Facts) -> tuple[float, list[str]]:
         points += 4
     else:
         got = "no result" if res is None or new is None else \
-            f"{_status_name(res[1])} {(res[0] - new.sent_ns) / 1e9:.2f} s after the newer goal"
+            f"{_status_name(res[1])} {relative(res[0] - new.sent_ns, 'the newer goal')}"
         lines.append(f"a newer goal: the older goal got {got}; expected PREEMPTED within 1 s")
     ok, why = _followed(facts, run, new, "the newer goal")
     if ok:
@@ -753,8 +783,11 @@ def check_protocol(facts: Facts) -> tuple[float, list[str]]:
         return 0.0, [why]
     m = run.machine
     if run.violation:
-        return 0.0, [run.violation.splitlines()[1].strip(), "(the schedule: "
-                     + "; ".join(s.strip() for s in m.schedule[1:]) + ")"]
+        steps = [s.strip() for s in m.schedule[1:]]
+        shown = steps[:15] + ([f"… and {len(steps) - 15} more step(s)"] if len(steps) > 15 else [])
+        return 0.0, [run.violation.splitlines()[1].strip(),
+                     "the grader's schedule of goals and cancels (step, simulated time, what):",
+                     *shown]
     for t, _who, text in student_logs(facts):
         if text.startswith(_ILLEGAL):
             return 0.0, [f"t={t / 1e9:.2f} s: your server logged: {text.splitlines()[0][:200]}"]
@@ -845,8 +878,8 @@ EX4B = _Ex4b(
                   "topics, the lecture's types; 5) from a class its script builds (5)", 10,
                   check_server, credit=CREDIT),
         Criterion("4b.2", "follows the path: every waypoint passed in order within 0.25 m, the "
-                  "end within 0.2 m, SUCCEEDED with success: true", 25, check_follow,
-                  credit=CREDIT),
+                  "end within 0.2 m, SUCCEEDED with success: true (20), the robot stopped "
+                  "there (5)", 25, check_follow, credit=CREDIT),
         Criterion("4b.3", "feedback at 5 Hz or more; initial_distance constant and right; "
                   "remaining_distance decreasing, consistent with the robot, ending near 0", 15,
                   check_feedback, credit=CREDIT),

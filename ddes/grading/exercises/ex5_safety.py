@@ -12,16 +12,19 @@ hidden name B; each node's ``~stop_service_name`` is overridden accordingly.  Ea
 once (exercise 4a's contract) is the fact "this node called the e-stop", with its time.
 
 **The run** (one per scenario, 14 simulated s): a grader driver drives the robot through
-manoeuvres that must not trigger anything — a start (+2 m/s²), passing a pillar at more than
-twice the hidden ``~min_distance``, braking (-2 m/s²), a start, a sharp S-turn (lateral
+manoeuvres that must not trigger anything — a start (+2 m/s²) beside a pillar on the left
+within ``~min_distance`` but outside the front sector, passing a pillar at more than twice the
+hidden ``~min_distance``, braking (-2 m/s²), a start, a sharp S-turn (lateral
 acceleration v·ω up to 1.2 m/s²) — then, driving straight, the grader adds a pillar ahead
 (``Simulator.add``) at ``min_distance`` + 1 m of the laser: the proximity stop must call A when
 the range drops below ``min_distance`` (the driver then brakes, as the e-stop would), once;
-0.5 s later the driver pushes the robot into that pillar: the crash detector must call B within
-0.2 s of the impact the simulator records, and not before.  A stop at a time it is not expected
-is recorded, not obeyed, so that one fault does not hide the others.  Hidden scenarios draw the
-start heading, ``min_distance`` (0.8-1.5 m), the speeds (0.4-1.1 m/s), the passing pillar and
-the service names from the scenario seed.
+0.5 s later the driver backs the robot off to 1.07-1.13 ``min_distance`` (inside the 20 % of
+hysteresis: the same approach, no second call) and pushes it into that pillar: the crash
+detector must call B within 0.2 s of the impact the simulator records, and not before.  A stop
+at a time it is not expected is recorded, not obeyed, so that one fault does not hide the
+others.  Hidden scenarios draw the start heading, ``min_distance`` (0.8-1.5 m), the speeds
+(0.4-1.1 m/s), the passing pillar, the service names, then the side pillar and the back-off
+from the scenario seed.
 
 **Deviations from teaching.md (E5).**  The design's grader-side SetBool stand-in cannot be
 called from the sandbox, hence the student's controller twice (above); one run per scenario
@@ -75,13 +78,24 @@ PHASES = (("start and pass", 2.6), ("brake", 3.4), ("start", 4.4), ("turn left",
 APPROACH_AT = PHASES[-1][1]
 #: After the proximity stop, the robot rests this long before the push.
 REST = 0.5
+#: The side pillar (``params["side"]``: its centre's distance ahead of the start, the gap from
+#: the robot's centre line to its surface on the left, its radius) is passed at the start
+#: within min_distance but outside the front sector: the gap is at most 0.65 min_distance and
+#: at least this (m; the laser's range_min is 0.45 m), so its beams within 0.5 rad of ahead
+#: stay beyond gap / sin(0.5) > 1.1 min_distance.
+SIDE_GAP_MIN = 0.55
+#: After the proximity stop and the rest, the driver backs the robot off at this speed until
+#: the laser is ``params["backoff"]`` x min_distance from the pillar (inside the 20 % of
+#: hysteresis: the same approach), rests BACKOFF_REST, then pushes.
+BACKOFF_V, BACKOFF_REST = 0.4, 0.3
 
 
 def scenarios(seed: int, public: bool) -> list[Scenario]:
     out = [Scenario("public", seed, params={
         "yaw": 0.0, "min_distance": 1.0, "v1": 1.1, "v_turn": 0.9, "w_turn": 1.1,
         "v_approach": 0.8, "v_push": 1.0, "pass": (2.0, 3.5, 0.3),
-        "service_a": "/emergency_stop", "service_b": "/crash_stop"})]
+        "service_a": "/emergency_stop", "service_b": "/crash_stop",
+        "side": (1.0, 0.6, 0.15), "backoff": 1.1})]
     for i in range(2):
         rng = hidden_random(f"ex5_safety/{i}", seed)
         m = round(rng.uniform(0.8, 1.5), 3)
@@ -98,6 +112,11 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
             "service_a": f"/{rng.choice(['estop', 'halt', 'safety'])}_{rng.randrange(100, 1000)}",
             "service_b": f"/{rng.choice(['crash', 'impact', 'bump'])}_{rng.randrange(100, 1000)}",
         }))
+        # drawn after the others, so that those keep their values
+        out[-1].params["side"] = (round(rng.uniform(0.8, 1.4), 3),
+                                  round(max(SIDE_GAP_MIN, m * rng.uniform(0.55, 0.65)), 3),
+                                  round(rng.uniform(0.1, 0.2), 3))
+        out[-1].params["backoff"] = round(rng.uniform(1.07, 1.13), 3)
     return out
 
 
@@ -110,9 +129,13 @@ def setup(world: Any, scenario: Scenario) -> tuple[dict[str, Any], dict[str, Any
     p = scenario.params
     fwd, lateral, r = p["pass"]
     px, py = _rot(p["yaw"], fwd + r, -(lateral + r))  # the passing pillar, on the right
+    obstacles = [{"type": "circle", "name": "passing_pillar", "x": px, "y": py, "radius": r}]
+    if "side" in p:  # close on the left, outside the front sector
+        sf, sg, sr = p["side"]
+        sx, sy = _rot(p["yaw"], sf, sg + sr)
+        obstacles.append({"type": "circle", "name": "side_pillar", "x": sx, "y": sy, "radius": sr})
     sim = {"x": 0.0, "y": 0.0, "yaw": p["yaw"], "world_yaml": yaml.safe_dump({
-        "name": "passing_pillar", "obstacles": [
-            {"type": "circle", "name": "passing_pillar", "x": px, "y": py, "radius": r}]})}
+        "name": "passing_pillar", "obstacles": obstacles})}
     overrides = {CTRL: {"stop_service_name": p["service_a"]},
                  PROX: {"stop_service_name": p["service_a"], "min_distance": p["min_distance"]},
                  CRASH: {"stop_service_name": p["service_b"]}}
@@ -132,6 +155,7 @@ class RunLog:
     target: tuple[float, float, float] | None = None
     braked_ns: int = -1
     push_ns: int = -1
+    backed_ns: int = -1
 
 
 def _gap(sim: Any, target: tuple[float, float, float] | None) -> float:
@@ -208,6 +232,15 @@ def _start_driver(world: Any, scenario: Scenario) -> None:
         elif log.braked_ns < 0:
             send(p["v_approach"], 0.0)
         elif now < log.braked_ns + round((0.6 + REST) * 1e9):
+            send(0.0, 0.0)
+        elif "backoff" in p and log.backed_ns < 0:
+            # back off a little (the robot's braking adds about 0.045 m), within the hysteresis
+            if _gap(sim, log.target) < p["backoff"] * p["min_distance"] - 0.045:
+                send(-BACKOFF_V, 0.0)
+            else:
+                log.backed_ns = now
+                send(0.0, 0.0)
+        elif log.backed_ns >= 0 and now < log.backed_ns + round(BACKOFF_REST * 1e9):
             send(0.0, 0.0)
         else:
             if log.push_ns < 0:
@@ -293,8 +326,14 @@ def _proximity(facts: Facts) -> tuple[float, list[str]]:
     if hit and hit[0].t_ns < t:
         return 0.0, [f"the robot hit the pillar at {_s(hit[0].t_ns)}, before the stop"]
     if len(calls) > 1:
+        more = ""
+        if 0 <= log.backed_ns < calls[1][0] and "backoff" in p:
+            more = (f"; after the first the robot backed off to {p['backoff'] * m:.2f} m from "
+                    f"the pillar, less than 20 % beyond min_distance ({m:.2f} m), and drove on: "
+                    "still the same approach")
         return 0.75, [f"{len(calls)} emergency stops during one approach (at "
-                      f"{', '.join(_s(c[0]) for c in calls[:4])}): call once per approach"]
+                      f"{', '.join(_s(c[0]) for c in calls[:4])}): call once per approach"
+                      f"{more}"]
     return 1.0, []
 
 
@@ -324,6 +363,30 @@ def _crash(facts: Facts) -> tuple[float, list[str]]:
     return 1.0, []
 
 
+def _side_range(facts: Facts, t_ns: int) -> float | None:
+    """The true range from the laser to the side pillar at ``t_ns`` when it is within
+    min_distance (None otherwise)."""
+    from ddes.sim import Circle
+
+    sim = notes(facts.world).sim
+    side = next((o for o in sim.obstacles if isinstance(o, Circle) and o.name == "side_pillar"),
+                None) if sim is not None else None
+    if sim is None or side is None:
+        return None
+    h = sim.history()
+    best = None
+    for t, x, y, yaw in zip(h.t_ns, h.x, h.y, h.yaw):
+        if t > t_ns:
+            break
+        best = (x, y, yaw)
+    if best is None:
+        return None
+    x, y, yaw = best
+    gap = math.hypot(side.x - x - LASER_X * cos(yaw), side.y - y - LASER_X * sin(yaw)) \
+        - side.radius
+    return gap if gap < facts.scenario.params["min_distance"] else None
+
+
 def check_proximity(facts: Facts) -> tuple[float, list[str]]:
     share, lines = _proximity(facts)
     return 40 * share, lines
@@ -347,8 +410,12 @@ def check_no_false_stop(facts: Facts) -> tuple[float, list[str]]:
     end = log.approach_ns if log.approach_ns >= 0 else round(DURATION * 1e9)
     early_a = [t for t, _ in log.stops_a if t < end]
     if early_a:
+        side = _side_range(facts, early_a[0])
+        what = ("nothing within min_distance" if side is None else
+                f"nothing ahead within min_distance (a pillar {side:.2f} m from the laser on "
+                "the left, outside the front sector)")
         lines.append(f"proximity stop: an emergency stop at {_s(early_a[0])} while "
-                     f"{_phase(early_a[0])}, nothing within min_distance")
+                     f"{_phase(early_a[0])}, {what}")
     elif prox_ok < 0.75:
         lines.append("proximity stop: no false stop, but it earns this only once it stops "
                      "the robot at the pillar (5.1)")
