@@ -1,4 +1,4 @@
-# ddes-digest: e70515e84a3f4f127b0be61f4401318cb3f6875b5e7acb2d2e577deffffe9373
+# ddes-digest: 02fe2b222296d4b8dc20389a3cf1af9b52ff00ca244f6fdf2c194ceef3773454
 # %% [markdown]
 # # For instructors: grading with ddes
 #
@@ -91,8 +91,8 @@ Image(filename=str(work / "gain_sign.png"))
 # %% [markdown]
 # ## A kill matrix
 #
-# `ddes grade sensitivity ex2_package` grades the reference and all 15 mutants of exercise 2
-# (about 30 s; exercise 3's 17 take about 45 s, see docs/grading.md). Here a copy of the
+# `ddes grade sensitivity ex2_package` grades the reference and all 19 mutants of exercise 2
+# (about 30 s; exercise 3's 21 take about 60 s, see docs/grading.md). Here a copy of the
 # solution keeps three of them: two bugs and one correct variant. Cells are points lost; `*`
 # marks the criteria a bug must lose.
 

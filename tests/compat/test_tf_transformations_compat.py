@@ -100,7 +100,7 @@ def test_norms_along_an_axis_are_ddes_norms(rows: list[list[float]]) -> None:
 
 
 def test_without_numpy_the_results_are_lists(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(tt, "_np", None)
+    monkeypatch.setattr(tt, "_numpy", lambda: None)
     assert tt.quaternion_from_euler(0.1, 0.2, 0.3) == T.quaternion_from_euler(0.1, 0.2, 0.3)
     assert type(tt.quaternion_from_euler(0.1, 0.2, 0.3)) is list
     assert tt.euler_matrix(0.1, 0.2, 0.3) == T.euler_matrix(0.1, 0.2, 0.3)

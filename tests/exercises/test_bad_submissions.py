@@ -45,7 +45,9 @@ def test_a_package_named_otherwise_in_package_xml_is_not_found(tmp_path: Path) -
     manifest = sub / PKG / "package.xml"
     manifest.write_text(manifest.read_text().replace(f"<name>{PKG}<", "<name>my_controller<"))
     text, points = report_text(sub)
-    assert f"package '{PKG}' not found" in text  # rospack goes by package.xml's <name>
+    # rospack goes by package.xml's <name>: the report names the mismatch
+    assert (f"the folder {PKG}/ declares package 'my_controller' in its package.xml, not "
+            f"'{PKG}'") in text
     assert sum(points.values()) <= 20
 
 

@@ -36,10 +36,15 @@ from ddes import transformations as _t
 from ddes.errors import DdesValueError
 from ddes.graph.blocking import current_task
 
-try:
-    import numpy as _np
-except ImportError:  # pragma: no cover - numpy is installed wherever the suite runs
-    _np = None  # type: ignore[assignment]
+
+def _numpy() -> Any:
+    """numpy, imported when a function first needs it (an optional dependency of ddes), or
+    None without it."""
+    try:
+        import numpy
+    except ImportError:  # pragma: no cover - numpy is installed wherever the suite runs
+        return None
+    return numpy
 
 __all__ = [
     "compose_matrix", "concatenate_matrices", "euler_from_matrix", "euler_from_quaternion",
@@ -77,6 +82,7 @@ def __getattr__(name: str) -> Any:
 
 def _array(value: Any) -> Any:
     """A list (of lists) as Noetic's ``numpy.ndarray`` of float64 (the list without numpy)."""
+    _np = _numpy()
     if _np is None:
         return value
     return _np.array(value, dtype=_np.float64)
@@ -114,6 +120,7 @@ def is_same_transform(matrix0: Any, matrix1: Any) -> bool:
 
 def _lanes(data: Any, axis: int | None) -> tuple[Any, Any]:
     """``data`` as float64 and its norms along ``axis`` (all of it when None), by ddes."""
+    _np = _numpy()
     assert _np is not None
     arr = _np.array(data, dtype=_np.float64)
     if axis is None:
@@ -125,6 +132,7 @@ def _lanes(data: Any, axis: int | None) -> tuple[Any, Any]:
 def vector_norm(data: Any, axis: int | None = None, out: Any = None) -> Any:
     """The Euclidean norm: a float for a 1-D vector, else an array of norms along ``axis``
     (written into ``out`` when given, which then returns None)."""
+    _np = _numpy()
     if _np is None or (out is None and _np.ndim(data) == 1):
         return _t.vector_norm(data)
     _arr, norms = _lanes(data, axis)
@@ -136,6 +144,7 @@ def vector_norm(data: Any, axis: int | None = None, out: Any = None) -> Any:
 
 def unit_vector(data: Any, axis: int | None = None, out: Any = None) -> Any:
     """``data`` divided by its norm (along ``axis``); into ``out`` (returning None) if given."""
+    _np = _numpy()
     if _np is None:
         return _t.unit_vector(data)
     if out is None and _np.ndim(data) == 1:
