@@ -42,10 +42,21 @@ texts are UTF-8 of at most ``MAX_ERROR`` bytes.  A RESP that is malformed, unkno
 twice is refused; the caller of a refused answer receives an error, and the callers of a child
 that ends receive rospy's transport error (the proxy server shuts down with the node).
 
+**A child per node.**  The grader runs each student node in a child of its own (as ROS runs
+each node in a process of its own): each has its own budgets (wall time per step, CPU, memory)
+and its own outcome, so a node that hangs or dies leaves the others running.  What one child's
+nodes publish reaches another child's subscribers through their proxies in the grader's world
+(the proxy's forwarder skips only its own child's messages).  A service served outside a child
+(by another child, or by the grader's world) is offered to it (``OFFER``): the child serves a
+stand-in whose calls cross as ``ASK``, are made in the grader's world from the calling node's
+proxy, and answered with ``ANSWER`` when the response arrives.  Every delta round sends each due
+child its step before it reads the first reply (the children compute in parallel) and applies
+the replies in the children's order; what a reply publishes reaches the others only at the next
+round, so the result is the one of stepping them one after the other.
+
 **Left out** (documented in docs/grading.md): parameters do not cross yet (the child's nodes
-see only the parameters of their command line and the grader's ``/use_sim_time``), nor do subscriptions on ``AnyMsg``, nor do
-services advertised by the grader's world toward the student's nodes (student clients see only
-the child's own services).
+see only the parameters of their command line and the grader's ``/use_sim_time``), nor do
+subscriptions on ``AnyMsg``.
 """
 
 from __future__ import annotations
@@ -61,12 +72,13 @@ from ddes.services.server import Service
 from ddes.time import Time
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
+    from collections.abc import Callable, Sequence
 
     from ddes.graph.node import Node
     from ddes.graph.world import World
 
-__all__ = ["MAX_ENDPOINTS", "MAX_NODES", "MAX_ROUNDS", "Lockstep"]
+__all__ = ["MAX_ENDPOINTS", "MAX_NODES", "MAX_ROUNDS", "ForwardingService", "Lockstep",
+           "combined"]
 
 #: Delta rounds at one instant before the exchange counts as a livelock.
 MAX_ROUNDS = 1000
@@ -81,24 +93,57 @@ def _global_name(name: str) -> bool:
             and is_legal_name(name) and "~" not in name)
 
 
-class Lockstep:
-    """The grader's ``world`` and the student's ``sandbox``, stepped together."""
+class _Child:
+    """One sandboxed child of a lockstep: its process and what waits to cross into it."""
 
-    def __init__(self, world: World, sandbox: Sandbox) -> None:
-        self.world = world
+    def __init__(self, index: int, sandbox: Sandbox) -> None:
+        self.index = index
         self.sandbox = sandbox
+        #: The child's next event (ns); 0 until its first step.
+        self.next: float = 0
+        self.inputs: list[tuple[str, str, str, bytes]] = []
+        #: Calls of its services waiting for the next STEP: ``(id, service, request bytes)``.
+        self.calls: list[tuple[int, str, bytes]] = []
+        #: Services of elsewhere to offer it: ``(service, type, md5)``.
+        self.offers: list[tuple[str, str, str]] = []
+        self.offered: set[str] = set()
+        #: Answers to its ASK frames waiting for the next STEP: ``(id, ok, bytes or text)``.
+        self.answers: list[tuple[int, bool, bytes | str]] = []
+        self.gone = False
+
+    def due(self, t: int) -> bool:
+        return bool(self.inputs or self.calls or self.offers or self.answers or self.next == t)
+
+
+class Lockstep:
+    """The grader's ``world`` and the student's sandboxes, stepped together.
+
+    ``sandboxes`` is one :class:`~ddes.grading.sandbox.Sandbox` or several (a child per
+    student node, as ROS runs each node in a process of its own): each child has its own
+    budgets and its own outcome (:attr:`outcomes`); what one child's nodes publish reaches
+    another's through their proxies in the grader's world, and a service one child serves is
+    offered to the others (``OFFER``/``ASK``/``ANSWER``).  Children are stepped in the order
+    given, every delta round.
+    """
+
+    def __init__(self, world: World, sandboxes: Sandbox | Sequence[Sandbox]) -> None:
+        self.world = world
+        boxes = [sandboxes] if isinstance(sandboxes, Sandbox) else list(sandboxes)
+        self._children = [_Child(i, box) for i, box in enumerate(boxes)]
         self.proxies: dict[str, Node] = {}
+        #: Which child a proxy node mirrors (its index).
+        self._owner: dict[str, int] = {}
         self._pubs: dict[tuple[str, str], Publisher[Any]] = {}
         self._subs: dict[tuple[str, str], Subscriber[Any]] = {}
-        self._forwarding: dict[str, tuple[str, str]] = {}
-        self._inputs: list[tuple[str, str, str, bytes]] = []
-        #: Service calls waiting for the next STEP: ``(id, service, request bytes)``.
-        self._calls: list[tuple[int, str, bytes]] = []
-        #: Calls sent to the child and not answered yet, by id.
+        self._forwarding: dict[tuple[int, str], tuple[str, str]] = {}
+        #: Calls sent to a child and not answered yet, by id.
         self._pending: dict[int, tuple[_ProxyService, Any, Any]] = {}
         self._services: dict[str, _ProxyService] = {}
+        self._service_owner: dict[str, int] = {}
+        self._clients: dict[tuple[str, str], Any] = {}
         self._next_call = 0
-        #: What the grader refused from the child, in order: ``(t_ns, text)``.
+        self._known_services = -1
+        #: What the grader refused from the children, in order: ``(t_ns, text)``.
         self.problems: list[tuple[int, str]] = []
         #: Student nodes whose main ended with an exception, in order: ``(t_ns, node, the
         #: traceback with the student's frames)`` (the child's word: shown, never scored).
@@ -112,21 +157,36 @@ class Lockstep:
         self.param_reads: list[tuple[int, str, str, bool]] = []
         #: Exchanges made (STEP frames sent).
         self.steps = 0
-        self._child_next: float = 0
+
+    @property
+    def sandbox(self) -> Sandbox:
+        """The first child's sandbox (the only one of a one-child lockstep)."""
+        return self._children[0].sandbox
+
+    @property
+    def sandboxes(self) -> list[Sandbox]:
+        return [c.sandbox for c in self._children]
+
+    @property
+    def outcomes(self) -> list[SandboxOutcome]:
+        """How each child ended, in the order given."""
+        return [c.sandbox.outcome for c in self._children]
 
     # -- the loop -----------------------------------------------------------------------------
     def run(self, until_ns: int, done: Callable[[], bool] | None = None) -> SandboxOutcome:
         """Run both until ``until_ns`` (exclusive, as ``World.run(until)``), or until ``done()``
-        is true after an instant, then end the child; returns how it ended.  The proxies of a
-        child still running at the end stay registered (criteria read the graph); those of a
-        child that ended earlier were shut down then."""
+        is true after an instant, then end the children; returns how they ended (the one
+        child's outcome, or :func:`combined` of several).  The proxies of a child still
+        running at the end stay registered (criteria read the graph); those of a child that
+        ended earlier were shut down then."""
         world = self.world
         env = world.env
-        if not self.sandbox.alive and self.sandbox.outcome.state == "running":
-            self.sandbox.start()
+        for c in self._children:
+            if not c.sandbox.alive and c.sandbox.outcome.state == "running":
+                c.sandbox.start()
         ended = False
         while not ended:
-            tc = self._child_next if self.sandbox.alive else _INF
+            tc = min((c.next for c in self._children if c.sandbox.alive), default=_INF)
             t = min(env.peek(), tc)
             if t >= until_ns:
                 break
@@ -137,39 +197,63 @@ class Lockstep:
             ended = done is not None and done()
         if world.now < until_ns and not ended:
             world.run(until=Time._from_ns(until_ns))
-        outcome = self.sandbox.close()
-        if outcome.state != "finished":
-            self._child_gone()
-        return outcome
+        for c in self._children:
+            outcome = c.sandbox.close()
+            if outcome.state != "finished":
+                self._child_gone(c)
+        return combined(self.outcomes, [s.scripts for s in self.sandboxes])
 
     def _instant(self, t: int) -> None:
+        self._offer_new_services()
         for _ in range(MAX_ROUNDS):
             self.world.run_through(t)
-            inputs, self._inputs = self._inputs, []
-            calls, self._calls = self._calls, []
-            if not self.sandbox.alive or (not inputs and not calls and self._child_next != t):
-                for call_id, _name, _data in calls:
-                    self._answer(call_id, False, "the student's process has ended")
-                if calls:
-                    continue
+            due = []
+            for c in self._children:
+                if not c.sandbox.alive:
+                    if not c.gone:
+                        self._child_gone(c)
+                elif c.due(t):
+                    due.append(c)
+            if not due:
                 return
-            self.steps += 1
-            reply = self.sandbox.step(t, inputs, calls) if calls else self.sandbox.step(t, inputs)
-            if reply is None:
-                self._child_gone()
-                return
-            if reply.next_ns != -1 and reply.next_ns <= t:
-                self.sandbox.kill("killed", f"reported its next event at {reply.next_ns} ns, not "
-                                            f"after the step at {t} ns")
-                self._child_gone()
-                return
-            self._child_next = _INF if reply.next_ns == -1 else reply.next_ns
-            published = self._apply(reply.frames, t)
-            if not published and self.world.env.peek() != t:
-                return
-        self.sandbox.kill("killed", f"more than {MAX_ROUNDS} exchanges at t={t / 1e9:.9f} s "
-                                   "(a zero-time loop between the student's nodes and the world)")
-        self._child_gone()
+            # every due child gets its step before the first reply is read, so they compute in
+            # parallel; the replies are applied in the children's order.  What one child's
+            # reply publishes reaches the others only through the grader's world, at the next
+            # round, so the result is the one of stepping them one after the other.
+            sent = [c for c in due if self._begin(c, t)]
+            for c in sent:
+                self._finish(c, t)
+            self._offer_new_services()
+        for c in self._children:
+            c.sandbox.kill("killed", f"more than {MAX_ROUNDS} exchanges at t={t / 1e9:.9f} s "
+                                     "(a zero-time loop between the student's nodes and the world)")
+            self._child_gone(c)
+
+    def _begin(self, c: _Child, t: int) -> bool:
+        inputs, c.inputs = c.inputs, []
+        calls, c.calls = c.calls, []
+        offers, c.offers = c.offers, []
+        answers, c.answers = c.answers, []
+        self.steps += 1
+        if c.sandbox.begin(t, inputs, calls, offers, answers):
+            return True
+        for call_id, _name, _data in calls:
+            self._answer(call_id, False, "the student's process has ended")
+        self._child_gone(c)
+        return False
+
+    def _finish(self, c: _Child, t: int) -> None:
+        reply = c.sandbox.finish(t)
+        if reply is None:
+            self._child_gone(c)
+            return
+        if reply.next_ns != -1 and reply.next_ns <= t:
+            c.sandbox.kill("killed", f"reported its next event at {reply.next_ns} ns, not "
+                                     f"after the step at {t} ns")
+            self._child_gone(c)
+            return
+        c.next = _INF if reply.next_ns == -1 else reply.next_ns
+        self._apply(reply.frames, t, c)
 
     # -- validation of the child's frames ------------------------------------------------------
     def _refuse(self, t: int, text: str) -> None:
@@ -188,9 +272,13 @@ class Lockstep:
             return None
         return cls
 
-    def _proxy(self, name: str, t: int) -> Node | None:
+    def _proxy(self, name: str, t: int, c: _Child) -> Node | None:
         node = self.proxies.get(name)
         if node is not None:
+            if self._owner[name] != c.index:
+                self._refuse(t, f"node name {name[:80]} is taken by another of your nodes: "
+                                "refused (as ROS ends the older node of a name)")
+                return None
             return None if node.is_shutdown() else node
         if not _global_name(name) or name.startswith("/ddes_grading"):
             self._refuse(t, f"illegal node name {name[:80]!r}")
@@ -204,30 +292,35 @@ class Lockstep:
         # a proxy only mirrors: it keeps no clock of its own (no /clock subscription under sim time)
         node = self.world.create_node(name, disable_rosout=True, use_sim_time=False)
         self.proxies[name] = node
+        self._owner[name] = c.index
         return node
 
-    def _apply(self, frames: list[Any], t: int) -> bool:
-        published = False
+    def _apply(self, frames: list[Any], t: int, c: _Child | None = None) -> None:
+        """Validate and apply one child's frames (the first child's when ``c`` is None)."""
+        if c is None:
+            c = self._children[0]
         for fr in frames:
             if isinstance(fr, protocol.Msg):
-                published |= self._msg(fr, t)
+                self._msg(fr, t, c)
             elif isinstance(fr, protocol.Adv):
-                self._adv(fr, t)
+                self._adv(fr, t, c)
             elif isinstance(fr, protocol.Sub):
-                self._sub(fr, t)
+                self._sub(fr, t, c)
             elif isinstance(fr, protocol.Srv):
-                self._srv(fr, t)
+                self._srv(fr, t, c)
             elif isinstance(fr, protocol.Resp):
-                published |= self._resp(fr, t)
+                self._resp(fr, t, c)
+            elif isinstance(fr, protocol.Ask):
+                self._ask(fr, t, c)
             elif isinstance(fr, protocol.Died):
                 self._died(fr, t)
             elif isinstance(fr, protocol.Read):
                 self._read(fr, t)
             elif isinstance(fr, protocol.Gone):
                 node = self.proxies.get(fr.node)
-                if node is not None and not node.is_shutdown():
+                if node is not None and self._owner[fr.node] == c.index \
+                        and not node.is_shutdown():
                     node.shutdown("the student's node ended")
-        return published
 
     def _died(self, fr: protocol.Died, t: int) -> None:
         if fr.t_ns != t:
@@ -245,7 +338,7 @@ class Lockstep:
         if len(self.param_reads) < 4096:
             self.param_reads.append((t, fr.node[:256], fr.key, fr.found))
 
-    def _adv(self, fr: protocol.Adv, t: int) -> None:
+    def _adv(self, fr: protocol.Adv, t: int, c: _Child) -> None:
         if not _global_name(fr.topic):
             self._refuse(t, f"illegal topic name {fr.topic[:80]!r}")
             return
@@ -257,7 +350,7 @@ class Lockstep:
                             f"{MAX_ENDPOINTS} publishers and subscribers")
             return
         cls = self._class(fr.type, fr.md5, t, f"{fr.node} advertising {fr.topic}")
-        node = self._proxy(fr.node, t) if cls is not None else None
+        node = self._proxy(fr.node, t, c) if cls is not None else None
         if node is None:
             return
         try:
@@ -265,7 +358,7 @@ class Lockstep:
         except DdesError as exc:
             self._refuse(t, f"{fr.node} advertising {fr.topic}: {exc}")
 
-    def _sub(self, fr: protocol.Sub, t: int) -> None:
+    def _sub(self, fr: protocol.Sub, t: int, c: _Child) -> None:
         if not _global_name(fr.topic):
             self._refuse(t, f"illegal topic name {fr.topic[:80]!r}")
             return
@@ -277,12 +370,12 @@ class Lockstep:
                             f"{MAX_ENDPOINTS} publishers and subscribers")
             return
         cls = self._class(fr.type, fr.md5, t, f"{fr.node} subscribing {fr.topic}")
-        node = self._proxy(fr.node, t) if cls is not None else None
+        node = self._proxy(fr.node, t, c) if cls is not None else None
         if node is None:
             return
         qs = None if fr.queue_size < 1 else min(fr.queue_size, 100_000)
-        forward = fr.topic not in self._forwarding
-        callback = self._forwarder(fr.topic, cls) if forward else None
+        forward = (c.index, fr.topic) not in self._forwarding
+        callback = self._forwarder(fr.topic, cls, c) if forward else None
         try:
             self._subs[key] = Subscriber(node, fr.topic, cls, callback, queue_size=qs,
                                          internal=True)
@@ -290,26 +383,23 @@ class Lockstep:
             self._refuse(t, f"{fr.node} subscribing {fr.topic}: {exc}")
             return
         if forward:
-            self._forwarding[fr.topic] = (cls._type, cls._md5sum)
+            self._forwarding[(c.index, fr.topic)] = (cls._type, cls._md5sum)
 
-    def _forwarder(self, topic: str, cls: Any) -> Any:
-        proxies = self.proxies
-        inputs = self._inputs_ref
+    def _forwarder(self, topic: str, cls: Any, c: _Child) -> Any:
+        owner = self._owner
+        index = c.index
 
         def forward(msg: Any) -> None:
             caller = msg._connection_header.get("callerid", "")
-            if caller in proxies:
-                return  # the student's own message: delivered inside the child already
-            inputs().append((topic, cls._type, cls._md5sum, msg._serialize_to_bytes()))
+            if owner.get(caller) == index:
+                return  # the child's own message: delivered inside it already
+            c.inputs.append((topic, cls._type, cls._md5sum, msg._serialize_to_bytes()))
 
         return forward
 
-    def _inputs_ref(self) -> list[tuple[str, str, str, bytes]]:
-        return self._inputs
-
-    def _msg(self, fr: protocol.Msg, t: int) -> bool:
+    def _msg(self, fr: protocol.Msg, t: int, c: _Child) -> bool:
         pub = self._pubs.get((fr.node, fr.topic))
-        if pub is None:
+        if pub is None or self._owner.get(fr.node) != c.index:
             self._refuse(t, f"message from {fr.node[:80]} on {fr.topic[:80]} it never advertised")
             return False
         if fr.t_ns != t:
@@ -332,7 +422,7 @@ class Lockstep:
         return True
 
     # -- services ------------------------------------------------------------------------------
-    def _srv(self, fr: protocol.Srv, t: int) -> None:
+    def _srv(self, fr: protocol.Srv, t: int, c: _Child) -> None:
         if not _global_name(fr.service):
             self._refuse(t, f"illegal service name {fr.service[:80]!r}")
             return
@@ -355,19 +445,43 @@ class Lockstep:
         if self.world.master.lookup_service(fr.service) is not None:
             self._refuse(t, f"{what}: the name is served by the grader's world: refused")
             return
-        node = self._proxy(fr.node, t)
+        node = self._proxy(fr.node, t, c)
         if node is None:
             return
         try:
             self._services[fr.service] = _ProxyService(node, fr.service, cls, self)
+            self._service_owner[fr.service] = c.index
         except DdesError as exc:
             self._refuse(t, f"{what}: {exc}")
+            return
+        c.offered.add(fr.service)  # its own: never offered back
+
+    def _offer_new_services(self) -> None:
+        """Offer every child the services served outside it: the other children's (their
+        proxies) and the grader world's own, once each, as they appear."""
+        if len(self._children) < 2 and not self.world.master.services:
+            return
+        services = self.world.master.services
+        if len(services) == self._known_services:
+            return
+        self._known_services = len(services)
+        for name, entry in sorted(services.items()):
+            for c in self._children:
+                if name in c.offered or self._service_owner.get(name) == c.index:
+                    continue
+                c.offered.add(name)
+                c.offers.append((name, entry.type, entry.md5sum))
 
     def _forward_call(self, server: _ProxyService, conn: Any, call: Any) -> None:
-        """A grader-side client's request reached a proxy server: it crosses at the next STEP."""
+        """A grader-side client's request reached a proxy server: it crosses at the next STEP of
+        the child that serves it."""
         self._next_call += 1
         self._pending[self._next_call] = (server, conn, call)
-        self._calls.append((self._next_call, server.resolved_name, call.data))
+        owner = self._children[self._service_owner[server.resolved_name]]
+        if not owner.gone:
+            owner.calls.append((self._next_call, server.resolved_name, call.data))
+        else:
+            self._answer(self._next_call, False, "the student's process has ended")
 
     def _answer(self, call_id: int, ok: bool, payload: bytes | str) -> bool:
         found = self._pending.pop(call_id, None)
@@ -377,9 +491,9 @@ class Lockstep:
         server._send(conn, call, ok, payload)
         return True
 
-    def _resp(self, fr: protocol.Resp, t: int) -> bool:
+    def _resp(self, fr: protocol.Resp, t: int, c: _Child) -> bool:
         found = self._pending.get(fr.id)
-        if found is None:
+        if found is None or self._service_owner.get(found[0].resolved_name) != c.index:
             self._refuse(t, f"answer to service call {fr.id}, which is not waiting for one")
             return False
         server = found[0]
@@ -402,18 +516,93 @@ class Lockstep:
                                               f"one {server.type} response")
         return self._answer(fr.id, True, fr.data)
 
-    def _child_gone(self) -> None:
-        for node in self.proxies.values():
-            if not node.is_shutdown():
+    def _ask(self, fr: protocol.Ask, t: int, c: _Child) -> None:
+        """A student node called a service served outside its child: call it in the grader's
+        world from the node's proxy; the answer crosses back as ANSWER when it arrives."""
+        from ddes.services.client import ServiceProxy
+
+        def refuse(text: str) -> None:
+            c.answers.append((fr.id, False, text))
+
+        entry = self.world.master.lookup_service(fr.service)
+        if entry is None or self._service_owner.get(fr.service) == c.index:
+            refuse(f"service [{fr.service[:200]}] unavailable")
+            return
+        node = self._proxy(fr.node, t, c)
+        if node is None:
+            refuse(f"service [{fr.service[:200]}] unavailable to {fr.node[:80]}")
+            return
+        try:
+            key = (fr.node, fr.service)
+            proxy = self._clients.get(key)
+            if proxy is None or proxy.service_class is not entry.server.service_class:
+                proxy = self._clients[key] = ServiceProxy(node, fr.service,
+                                                          entry.server.service_class)
+            cls = proxy.request_class
+            request = cls.__new__(cls)._deserialize_from(fr.data)
+            if request._serialize_to_bytes() != fr.data:
+                raise ValueError(f"{len(fr.data)} bytes that are not one {entry.type} request")
+            pending = proxy._start((request,), {}, None)
+        except Exception as exc:  # noqa: BLE001 - bytes from the student: refused, never raised
+            self._refuse(t, f"{fr.node[:80]} calling {fr.service[:80]}: {exc}")
+            refuse(f"{type(exc).__name__}: {exc}")
+            return
+
+        def answered(ev: Any, pc: Any = pending) -> None:
+            ev.defused = True
+            if c.gone:
+                return
+            if ev.ok:
+                c.answers.append((fr.id, True, ev.value._serialize_to_bytes()))
+            else:
+                c.answers.append((fr.id, False, pc.server_text if pc.server_text is not None
+                                  else str(ev.value)))
+
+        pending.event.callbacks.append(answered)
+
+    def _child_gone(self, c: _Child) -> None:
+        c.gone = True
+        for name, node in self.proxies.items():
+            if self._owner[name] == c.index and not node.is_shutdown():
                 node.shutdown("the student's process ended")
+        for call_id, _name, _data in c.calls:
+            self._answer(call_id, False, "the student's process has ended")
+        c.calls = []
 
 
-class _ProxyService(Service):
-    """The grader-side face of a student's service: requests are forwarded to the child by the
-    :class:`Lockstep`, never served here (no handler of the student runs in the grader)."""
+def combined(outcomes: Sequence[SandboxOutcome],
+             scripts: Sequence[Sequence[tuple[str, Sequence[str]]]] = ()) -> SandboxOutcome:
+    """One outcome of several children (a child per student node): the only one's when there
+    is one; else ``finished`` when all finished, or the first other state with every child's
+    reason that is not ``finished`` (named by its script), the output tails joined and what was
+    enforced (the same for every child)."""
+    if len(outcomes) == 1:
+        return outcomes[0]
+    out = SandboxOutcome(state="finished")
+    reasons, tails = [], []
+    for i, o in enumerate(outcomes):
+        name = scripts[i][0][0] if i < len(scripts) and scripts[i] else f"child {i}"
+        if o.state != "finished" and out.state == "finished":
+            out.state, out.returncode = o.state, o.returncode
+        if o.reason:
+            reasons.append(f"{name}: {o.reason}")
+        if o.output_tail:
+            tails.append(f"[{name}]\n{o.output_tail}")
+        out.enforced = out.enforced or list(o.enforced)
+    out.reason = "; ".join(reasons)
+    out.output_tail = "\n".join(tails)
+    return out
 
-    def __init__(self, node: Node, name: str, service_class: Any, lock: Lockstep) -> None:
-        self._lock = lock
+
+class ForwardingService(Service):
+    """A service served elsewhere: each request goes to ``forward(self, conn, call)``, whose
+    caller answers it later with ``self._send(conn, call, ok, bytes or error text)``; nothing
+    is handled here.  The grader's face of a student's service (:class:`_ProxyService`), and a
+    child's stand-in for a service of another child or of the grader (``OFFER``)."""
+
+    def __init__(self, node: Node, name: str, service_class: Any,
+                 forward: Callable[[ForwardingService, Any, Any], None]) -> None:
+        self._forward = forward
         super().__init__(node, name, service_class, self._never)
 
     @staticmethod
@@ -431,4 +620,12 @@ class _ProxyService(Service):
                                  ("service", "call", "client"), self.resolved_name, call.id,
                                  conn.proxy.node.name))
         self._stats.served += 1
-        self._lock._forward_call(self, conn, call)
+        self._forward(self, conn, call)
+
+
+class _ProxyService(ForwardingService):
+    """The grader-side face of a student's service: requests are forwarded to the child by the
+    :class:`Lockstep`, never served here (no handler of the student runs in the grader)."""
+
+    def __init__(self, node: Node, name: str, service_class: Any, lock: Lockstep) -> None:
+        super().__init__(node, name, service_class, lock._forward_call)  # type: ignore[arg-type]

@@ -78,6 +78,9 @@ class Facts:
     #: The first failure of each student callback (the node went on, as rospy's does):
     #: ``(t_ns, node, "in the callback NAME:" + traceback)``.
     callback_failures: list[tuple[int, str, str]] = field(default_factory=list)
+    #: How each student node's child ended: ``(its script, relative to the submission, the
+    #: outcome)``, in the order the exercise gave the scripts (``outcome`` combines them).
+    outcomes: list[tuple[str, SandboxOutcome]] = field(default_factory=list)
     #: Parameters the student's nodes read: ``(t_ns, node, resolved key, found)``, once each.
     param_reads: list[tuple[int, str, str, bool]] = field(default_factory=list)
 

@@ -121,7 +121,10 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
     """Build the trusted world of ``scenario``, run the prepared submission (None: it could not
     be read) in lockstep with it, and return the world and the facts of the run."""
     world = World(scenario.seed, wall_budget=None)
-    world.log_output = None
+    # the trusted world prints nothing where the grade runs: its nodes' lines (the simulator's
+    # "collision with grader_pillar", which the grader's own schedule causes) are not the
+    # student's; they stay in the trace
+    world.log_output = False
     if prepared is not None:  # logs name the submission's files as /submission/...
         world.display_paths = submission_paths(prepared)
     exercise.build(world, scenario)
@@ -131,13 +134,17 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         assert prepared is not None
         # /use_sim_time crosses into the child, so its nodes follow the /clock the grader forwards
         params = {"/use_sim_time": True} if world.use_sim_time else {}
-        sandbox = Sandbox(prepared, scripts, seed=scenario.seed, limits=limits, params=params)
-        lock = Lockstep(world, sandbox)
+        # a child per student node, as ROS runs each node in a process of its own: each has its
+        # own budgets, and one that hangs or dies leaves the others running
+        sandboxes = [Sandbox(prepared, [script], seed=scenario.seed, limits=limits, params=params)
+                     for script in scripts]
+        lock = Lockstep(world, sandboxes)
         finished = exercise.finished
         outcome = lock.run(until, done=None if finished is None else lambda: finished(world))
         refused = lock.problems
         nodes = list(lock.proxies)
         deaths, failures, reads = lock.deaths, lock.callback_failures, lock.param_reads
+        outcomes = [(path, o) for (path, _args), o in zip(scripts, lock.outcomes)]
     else:  # no student node to run: no child, no lockstep (nothing of the submission executes)
         _run_alone(world, until, exercise.finished if prepared is not None else None)
         outcome = SandboxOutcome(state="not started", reason=(
@@ -145,10 +152,11 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
             "no student node to run: the student's process was not started"))
         refused, nodes = [], []
         deaths, failures, reads = [], [], []
+        outcomes = []
     facts = Facts(exercise=exercise, scenario=scenario, world=world, outcome=outcome,
                   refused=refused, submission=prepared if prepared is not None else Path("/nonexistent"),
                   student_nodes=nodes, deaths=deaths, callback_failures=failures,
-                  param_reads=reads)
+                  param_reads=reads, outcomes=outcomes)
     return world, facts
 
 
@@ -172,10 +180,13 @@ def _note_problems(report: GradeReport, facts: Facts, limits: Limits) -> None:
     outcome, refused, name = facts.outcome, facts.refused, facts.scenario.name
     if outcome.enforced:
         report.enforced = list(outcome.enforced)
-    if outcome.state in ("killed", "exited"):
-        failed = outcome.returncode != 0  # an error's traceback ends a failing run's output
-        report.problems.append(f"{name}: {outcome.reason}"
-                               + (_last_words(outcome.output_tail) if failed else ""))
+    each = [(f"{path}: ", o) for path, o in facts.outcomes] if len(facts.outcomes) > 1 else \
+        [("", outcome)]
+    for who, o in each:  # a child per node: each one that ended early, with its own output
+        if o.state in ("killed", "exited"):
+            failed = o.returncode != 0  # an error's traceback ends a failing run's output
+            report.problems.append(f"{name}: {who}{o.reason}"
+                                   + (_last_words(o.output_tail) if failed else ""))
     for t, who, text in facts.deaths:
         cap = ""
         if "[Errno 27] File too large" in text:

@@ -20,6 +20,11 @@ Kinds, grader → child:
   these request bytes; sent just before the ``STEP`` of the instant it happened at, and answered
   by a ``RESP`` with the same ``id`` in that step's reply or a later one (a handler may take
   simulated time).
+* ``OFFER service type md5``: a service served outside this child (by another student node's
+  child, or by the grader's world) exists; the child serves a stand-in that forwards each call
+  as ``ASK``.  Sent before a ``STEP``.
+* ``ANSWER id ok blob``: the answer to the child's ``ASK id``: ``ok`` 1 and the response's wire
+  bytes, or ``ok`` 0 and the error text.  Sent before the ``STEP`` of the instant it arrived at.
 
 Kinds, child → grader (the reply to one STEP ends with ``DONE``):
 
@@ -39,6 +44,8 @@ Kinds, child → grader (the reply to one STEP ends with ``DONE``):
 * ``READ node key found``: a student node read the parameter ``key`` (resolved, global) with
   ``get_param`` or ``has_param``; ``found`` 1 when it was set.  Sent once per ``(node, key,
   found)``.
+* ``ASK id node service blob``: the student node ``node`` called ``service``, which this child
+  serves only as an ``OFFER``'s stand-in, with these request bytes; answered by ``ANSWER id``.
 * ``DONE next_ns``: the step is over; the child's next event is at ``next_ns`` (-1: none).
 * ``READY``: sent once, before the first step, when the child has imported ddes and confined
   itself (the grader gives that phase its own wall budget).
@@ -53,6 +60,8 @@ from ddes.errors import ProtocolError
 
 __all__ = [
     "ADV",
+    "ANSWER",
+    "ASK",
     "CALL",
     "DIED",
     "DONE",
@@ -63,6 +72,7 @@ __all__ = [
     "MAX_ERROR",
     "MAX_STR",
     "MSG",
+    "OFFER",
     "READ",
     "READY",
     "RESP",
@@ -70,11 +80,14 @@ __all__ = [
     "STEP",
     "SUB",
     "Adv",
+    "Answer",
+    "Ask",
     "Call",
     "Died",
     "Done",
     "Gone",
     "Msg",
+    "Offer",
     "Read",
     "Resp",
     "Srv",
@@ -83,12 +96,15 @@ __all__ = [
     "decode_frame",
     "decode_header",
     "encode_adv",
+    "encode_answer",
+    "encode_ask",
     "encode_call",
     "encode_died",
     "encode_done",
     "encode_end",
     "encode_gone",
     "encode_msg",
+    "encode_offer",
     "encode_read",
     "encode_ready",
     "encode_resp",
@@ -106,9 +122,11 @@ MAX_STR = 1024
 #: Longest error text of a ``RESP`` (bytes of UTF-8).
 MAX_ERROR = 4096
 
-STEP, END, CALL = 1, 2, 3
-ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP, DIED, READ = 10, 11, 12, 13, 14, 15, 16, 17, 18, 19
-_KINDS = {STEP, END, CALL, ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP, DIED, READ}
+STEP, END, CALL, OFFER, ANSWER = 1, 2, 3, 4, 5
+ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP, DIED, READ, ASK = (10, 11, 12, 13, 14, 15, 16, 17,
+                                                               18, 19, 20)
+_KINDS = {STEP, END, CALL, OFFER, ANSWER, ADV, SUB, MSG, GONE, DONE, READY, SRV, RESP, DIED,
+          READ, ASK}
 
 _I64 = struct.Struct(">q")
 _I32 = struct.Struct(">i")
@@ -196,7 +214,30 @@ class Read:
     found: bool
 
 
-Frame = Step | Adv | Sub | Msg | Gone | Done | Call | Srv | Resp | Died | Read | None
+@dataclass(frozen=True)
+class Offer:
+    service: str
+    type: str
+    md5: str
+
+
+@dataclass(frozen=True)
+class Answer:
+    id: int
+    ok: bool
+    data: bytes
+
+
+@dataclass(frozen=True)
+class Ask:
+    id: int
+    node: str
+    service: str
+    data: bytes
+
+
+Frame = (Step | Adv | Sub | Msg | Gone | Done | Call | Srv | Resp | Died | Read | Offer | Answer
+         | Ask | None)
 
 
 def _s(text: str) -> bytes:
@@ -272,6 +313,21 @@ def encode_died(node: str, t_ns: int, fatal: bool, text: str) -> bytes:
 def encode_read(node: str, key: str, found: bool) -> bytes:
     return _frame(READ, _s(_cut(node, MAX_STR).decode("utf-8"))
                   + _s(_cut(key, MAX_STR).decode("utf-8")) + bytes([1 if found else 0]))
+
+
+def encode_offer(service: str, type_: str, md5: str) -> bytes:
+    return _frame(OFFER, _s(service) + _s(type_) + _s(md5))
+
+
+def encode_answer(ask_id: int, ok: bool, data: bytes | str) -> bytes:
+    """``data``: the response's bytes (ok) or the error text, cut to :data:`MAX_ERROR` bytes."""
+    if isinstance(data, str):
+        data = _cut(data, MAX_ERROR)
+    return _frame(ANSWER, _I64.pack(ask_id) + bytes([1 if ok else 0]) + _b(data))
+
+
+def encode_ask(ask_id: int, node: str, service: str, data: bytes) -> bytes:
+    return _frame(ASK, _I64.pack(ask_id) + _s(node) + _s(service) + _b(data))
 
 
 def encode_ready() -> bytes:
@@ -368,6 +424,15 @@ def decode_frame(kind: int, payload: bytes) -> Frame:
         out = Call(r.i64(), r.s(), r.b())
     elif kind == SRV:
         out = Srv(r.s(), r.s(), r.s(), r.s())
+    elif kind == OFFER:
+        out = Offer(r.s(), r.s(), r.s())
+    elif kind == ANSWER:
+        ask_id, ok = r.i64(), r.u8()
+        if ok not in (0, 1):
+            raise ProtocolError(f"ok flag {ok} (0 or 1)")
+        out = Answer(ask_id, bool(ok), r.b())
+    elif kind == ASK:
+        out = Ask(r.i64(), r.s(), r.s(), r.b())
     elif kind == DIED:
         node, t, fatal = r.s(), r.i64(), r.u8()
         if fatal not in (0, 1):

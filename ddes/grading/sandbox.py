@@ -79,7 +79,8 @@ class StepReply:
     """What the child answered to one STEP (frames still to be validated by the bridge)."""
 
     frames: list[protocol.Adv | protocol.Sub | protocol.Msg | protocol.Gone | protocol.Srv
-                 | protocol.Resp | protocol.Died | protocol.Read] = field(default_factory=list)
+                 | protocol.Resp | protocol.Died | protocol.Read | protocol.Ask] = field(
+                     default_factory=list)
     next_ns: int = -1
 
 
@@ -160,6 +161,7 @@ class Sandbox:
         self._proc: subprocess.Popen[bytes] | None = None
         self._first = True
         self._buf = b""
+        self._deadline = 0.0
 
     # -- life -----------------------------------------------------------------------------------
     @property
@@ -242,30 +244,68 @@ class Sandbox:
 
     # -- steps ----------------------------------------------------------------------------------
     def step(self, t_ns: int, messages: list[tuple[str, str, str, bytes]],
-             calls: Sequence[tuple[int, str, bytes]] = ()) -> StepReply | None:
-        """Send one STEP (after a CALL frame per service call in ``calls``: ``(id, service,
-        request bytes)``) and read its reply; None (and the child ended) when it fails."""
-        if not self.alive:
+             calls: Sequence[tuple[int, str, bytes]] = (),
+             offers: Sequence[tuple[str, str, str]] = (),
+             answers: Sequence[tuple[int, bool, bytes | str]] = ()) -> StepReply | None:
+        """Send one STEP (after an OFFER per ``(service, type, md5)`` of ``offers``, an ANSWER
+        per ``(id, ok, bytes or error text)`` of ``answers`` and a CALL per ``(id, service,
+        request bytes)`` of ``calls``) and read its reply; None (and the child ended) when it
+        fails.  :meth:`begin` and :meth:`finish` are its two halves (a lockstep of several
+        children sends every due child its step before it reads the first reply, so they
+        compute in parallel)."""
+        if not self.begin(t_ns, messages, calls, offers, answers):
             return None
+        return self.finish(t_ns)
+
+    def begin(self, t_ns: int, messages: list[tuple[str, str, str, bytes]],
+              calls: Sequence[tuple[int, str, bytes]] = (),
+              offers: Sequence[tuple[str, str, str]] = (),
+              answers: Sequence[tuple[int, bool, bytes | str]] = ()) -> bool:
+        """Send one STEP (see :meth:`step`); False (and the child ended) when it fails."""
+        if not self.alive:
+            return False
         budget = self.limits.step_wall_s
         try:
             if self._first:
                 self._first = False
                 self._ready(t_ns)
-            deadline = time.monotonic() + budget
-            head = b"".join(protocol.encode_call(i, name, data) for i, name, data in calls)
-            self._send(head + protocol.encode_step(t_ns, messages), deadline)
-            return self._reply(t_ns, deadline)
-        except TimeoutError as exc:
-            self.kill("killed", f"{str(exc) or f'no answer within the {budget:g} s wall budget of a step'}"
-                                f" (at simulated t={t_ns / 1e9:.3f} s)")
-        except EOFError:
-            self._ended(t_ns)
-        except ProtocolError as exc:
-            self.kill("killed", f"broke the protocol at t={t_ns / 1e9:.3f} s: {exc}")
-        except OSError as exc:  # a broken pipe: it has gone
-            self._ended(t_ns, str(exc))
+            self._deadline = time.monotonic() + budget
+            head = b"".join([*(protocol.encode_offer(*o) for o in offers),
+                             *(protocol.encode_answer(*a) for a in answers),
+                             *(protocol.encode_call(i, name, data) for i, name, data in calls)])
+            self._send(head + protocol.encode_step(t_ns, messages), self._deadline)
+            return True
+        except BaseException as exc:  # noqa: BLE001 - each kind ends the child, as _failed says
+            self._failed(t_ns, exc)
+        return False
+
+    def finish(self, t_ns: int) -> StepReply | None:
+        """Read the reply to the STEP :meth:`begin` sent; None (and the child ended) when it
+        fails."""
+        if not self.alive:
+            return None
+        try:
+            return self._reply(t_ns, self._deadline)
+        except BaseException as exc:  # noqa: BLE001 - each kind ends the child, as _failed says
+            self._failed(t_ns, exc)
         return None
+
+    def _failed(self, t_ns: int, exc: BaseException) -> None:
+        budget = self.limits.step_wall_s
+        if isinstance(exc, TimeoutError):
+            hint = "" if str(exc) else (": code that never sleeps (rate.sleep(), rospy.sleep()) "
+                                        "or waits for ROS time in a loop keeps simulated time "
+                                        "still")
+            self.kill("killed", f"{str(exc) or f'no answer within the {budget:g} s wall budget of a step'}"
+                                f" (at simulated t={t_ns / 1e9:.3f} s){hint}")
+        elif isinstance(exc, EOFError):
+            self._ended(t_ns)
+        elif isinstance(exc, ProtocolError):
+            self.kill("killed", f"broke the protocol at t={t_ns / 1e9:.3f} s: {exc}")
+        elif isinstance(exc, OSError):  # a broken pipe: it has gone
+            self._ended(t_ns, str(exc))
+        else:
+            raise exc
 
     def _ready(self, t_ns: int) -> None:
         """Wait for READY: the child has imported ddes and confined itself."""
@@ -322,7 +362,8 @@ class Sandbox:
                                         f"({t_ns} ns)")
                 reply.next_ns = frame.next_ns
                 return reply
-            if frame is None or isinstance(frame, (protocol.Step, protocol.Call)):
+            if frame is None or isinstance(frame, (protocol.Step, protocol.Call, protocol.Offer,
+                                                   protocol.Answer)):
                 raise ProtocolError("the child sent a grader-side frame")
             reply.frames.append(frame)
 

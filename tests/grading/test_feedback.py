@@ -79,3 +79,23 @@ def test_evidence_is_cut_at_a_word() -> None:
     cut = _cut(text, 500)
     assert len(cut) <= 500 and cut.endswith("word…")
     assert _cut("short", 500) == "short"
+
+
+def test_the_graders_own_log_lines_are_not_printed(tmp_path: Path, capfd: Any) -> None:
+    """Exercise 4b's schedule drives the robot into the grader's pillar: the simulator's
+    "collision with grader_pillar" is the grader's doing, never printed as the student's."""
+    from ddes.grading.exercise import Scenario
+    from ddes.grading.grader import run_scenario
+
+    ex = Exercise(id="quiet", title="Quiet", duration=0.5, build=_warns, scripts=(),
+                  criteria=(Criterion("1", "runs", 1, _nothing),))
+    world, _facts = run_scenario(ex, Scenario("public", 0), tmp_path, None)
+    out, err = capfd.readouterr()
+    assert "collision" not in out + err
+    assert any("collision with grader_pillar" in str(ev.details.get("msg", ""))
+               for ev in world.trace.select(kind="log"))
+
+
+def _warns(world: Any, _scenario: Any) -> None:
+    node = world.create_node("/ddes_sim")
+    world.call_at(100_000_000, lambda: node.logwarn("collision with grader_pillar"))

@@ -109,7 +109,7 @@ def test_service_frames_from_the_child_are_validated() -> None:
     sent: list[tuple[bool, Any]] = []
     server._send = lambda conn, call, ok, payload: sent.append((ok, payload))  # type: ignore[method-assign]
     lock._forward_call(server, _Conn(), type("C", (), {"data": b"\x01"})())
-    assert lock._calls == [(1, "/ok", b"\x01")]
+    assert lock._children[0].calls == [(1, "/ok", b"\x01")]
     lock._apply([protocol.Resp(1, True, b"\x01\x05\x00")], 0)
     assert sent and sent[0][0] is False and "not one std_srvs/SetBool response" in sent[0][1]
 

@@ -791,6 +791,11 @@ def check_protocol(facts: Facts) -> tuple[float, list[str]]:
     for t, _who, text in student_logs(facts):
         if text.startswith(_ILLEGAL):
             return 0.0, [f"t={t / 1e9:.2f} s: your server logged: {text.splitlines()[0][:200]}"]
+    ended = [(path, o) for path, o in facts.outcomes
+             if o.state in ("killed", "exited") and path.endswith(f"/{NODE_TYPE}")]
+    if ended:  # a server that stopped answering served no schedule, whatever the goals did
+        return 0.0, [f"your server's process was ended before the schedule's end: "
+                     f"{ended[0][1].reason}"]
     if not run.finished:
         return 0.0, ["the schedule did not reach its end (cancel everything, every goal ends)"]
     late = m._unfinished()
