@@ -8,8 +8,8 @@
   or on Dask distributed (``OUT/<submission>/results.json`` and ``OUT/summary.csv``, the same
   bytes for any N); each submission's files are written as soon as it is graded, and
   ``--resume`` keeps those of an interrupted batch (``OUT/<submission>/batch.json``);
-* ``replay``, ``sweep``, ``sensitivity`` and the hidden-scenario key (``--secret-file``,
-  ``--student``, ``--attempt``): ddes/cli/grade_tools.py.
+* ``replay``, ``sweep``, ``sensitivity``, ``operators`` and the hidden-scenario key
+  (``--secret-file``, ``--student``, ``--attempt``): ddes/cli/grade_tools.py.
 
 ``--exercises FILE`` (repeatable) loads an instructor's exercise file first.  Exit status: 0
 when grading completed, whatever the score; 1 under ``--fail-under`` when the score is below it;
@@ -34,7 +34,8 @@ _USAGE = ("ddes grade list | ddes grade EXERCISE SUBMISSION [options] | "
           "ddes grade batch EXERCISE DIR --out OUT [--workers N | --scheduler ADDRESS] "
           "[--resume] | "
           "ddes grade replay EXERCISE SUBMISSION --scenario NAME | "
-          "ddes grade sweep EXERCISE SUBMISSION --seeds A:B | ddes grade sensitivity EXERCISE")
+          "ddes grade sweep EXERCISE SUBMISSION --seeds A:B | ddes grade sensitivity EXERCISE | "
+          "ddes grade operators EXERCISE [--sample N]")
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

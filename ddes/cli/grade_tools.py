@@ -5,6 +5,8 @@
 * ``ddes grade sweep EXERCISE SUBMISSION --seeds A:B [--figure FILE] [--fail-under PCT]``: the
   score over seeds;
 * ``ddes grade sensitivity EXERCISE [--solutions DIR] [--seed N]``: the mutants' kill matrix;
+* ``ddes grade operators EXERCISE [--solutions DIR] [--sample N] [--seed S] [--jobs J]
+  [--min-rate PCT]``: the operator sweep's kill rate (ddes/grading/operators.py);
 
 both on the engine of ``ddes grade batch`` (``--workers N``, ``--scheduler ADDRESS``,
 ``--retries R``: one task per (seed or mutant, scenario));
@@ -39,6 +41,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--solutions", metavar="DIR", default="solutions",
                    help="sensitivity: where <exercise>/ and <exercise>/mutants/ are "
                         "(default solutions)")
+    p.add_argument("--sample", type=int, default=None, metavar="N",
+                   help="operators: grade an evenly spaced sample of N mutants (drawn with "
+                        "--seed)")
+    p.add_argument("--jobs", type=int, default=0, metavar="J",
+                   help="operators: grade on J worker processes (--workers J)")
+    p.add_argument("--min-rate", type=float, default=95.0, metavar="PCT",
+                   help="operators: exit 1 when the kill rate is below PCT percent "
+                        "(default 95)")
     p.add_argument("--secret-file", metavar="FILE",
                    help="the course secret hidden scenarios derive from (else "
                         "$DDES_GRADE_SECRET; without either, the open default scenarios)")
@@ -145,6 +155,40 @@ def _sensitivity(registry: Any, words: list[str], args: argparse.Namespace, limi
     return 0 if result.ok else 1
 
 
+def _operators(registry: Any, words: list[str], args: argparse.Namespace, limits: Any) -> int:
+    from ddes.grading.operators import sweep
+
+    if len(words) != 1:
+        raise GradingError("usage: ddes grade operators EXERCISE [--solutions DIR] [--sample N] "
+                           "[--seed S] [--jobs J] [--min-rate PCT]")
+    if args.sample is not None and args.sample < 1:
+        raise GradingError(f"--sample {args.sample}: give N >= 1")
+    if args.jobs < 0:
+        raise GradingError(f"--jobs {args.jobs}: give J >= 0")
+    if args.jobs and args.workers and args.jobs != args.workers:
+        raise GradingError("give --jobs J or --workers N, not both")
+    engine = _engine(args)
+    engine["workers"] = args.jobs or args.workers
+    if engine["workers"] and args.scheduler:
+        raise GradingError("give --jobs J or --scheduler ADDRESS, not both")
+    exercise = registry.get(words[0])
+    result = sweep(exercise, Path(args.solutions), n=args.sample, sample_seed=args.seed,
+                   seed=args.seed, limits=limits, min_rate=args.min_rate,
+                   progress=lambda line: print(line, file=sys.stderr), **engine)
+    sys.stdout.write(result.to_text())
+    for name in result.wrong_equivalents:
+        print(f"{name} is listed as equivalent in operators.yaml but was killed",
+              file=sys.stderr)
+    if not result.reference_ok:
+        print("the reference does not get full points: fix the solution or the grader first",
+              file=sys.stderr)
+    if result.rate < result.min_rate:
+        print(f"kill rate {result.rate:.1f} % is below --min-rate {result.min_rate:g} %",
+              file=sys.stderr)
+    return 0 if result.ok else 1
+
+
 #: ``ddes grade WORD ...`` -> its function ``(registry, words after WORD, args, limits)``.
 TOOLS: dict[str, Callable[[Any, list[str], argparse.Namespace, Any], int]] = {
-    "replay": _replay, "sweep": _sweep, "sensitivity": _sensitivity}
+    "replay": _replay, "sweep": _sweep, "sensitivity": _sensitivity,
+    "operators": _operators}
