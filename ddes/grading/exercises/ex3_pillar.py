@@ -351,6 +351,12 @@ def _to_world(buffer: Any, truth: dict[int, tuple[float, float, float]], frame: 
     return x + c * bx - s * by, y + s * bx + c * by
 
 
+def _norm2(q: Any) -> float:
+    """The squared norm of a quaternion message (RViz's ``validateQuaternions`` wants it within
+    10e-3 of 1)."""
+    return float(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w)
+
+
 def check_marker(facts: Facts) -> tuple[float, list[str]]:
     why = launch_problem(facts)
     if why:
@@ -391,6 +397,10 @@ def check_marker(facts: Facts) -> tuple[float, list[str]]:
         elif min(sc.x, sc.y, sc.z) <= 0 or m.color.a <= 0:
             miss = (f"has scale ({sc.x:g}, {sc.y:g}, {sc.z:g}) and colour alpha {m.color.a:g}: "
                     "RViz draws nothing (each must be above 0)")
+        elif abs(_norm2(m.pose.orientation) - 1.0) >= 10e-3:
+            q = m.pose.orientation
+            miss = (f"has the orientation ({q.x:g}, {q.y:g}, {q.z:g}, {q.w:g}), not a unit "
+                    "quaternion: RViz refuses such a marker (w = 1 for no rotation)")
         else:
             try:
                 w = _to_world(buffer, truth, frame, stamp, (pos.x, pos.y, pos.z))

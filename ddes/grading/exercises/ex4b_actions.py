@@ -581,7 +581,7 @@ def _stops_at_end(facts: Facts, run: Run, g: Goal, what: str) -> str:
     truth = _truth_odom(facts)
     v_end = next((abs(v) for t, _x, _y, _yaw, v in truth if t >= t_end), 0.0)
     if not zero:
-        return (f"{what}: SUCCEEDED at t={t_end / 1e9:.2f} s with the robot driving at "
+        return (f"{what}: {_status_name(res[1])} at t={t_end / 1e9:.2f} s with the robot driving at "
                 f"{v_end:.2f} m/s, but your node published no zero Twist on /cmd_vel within "
                 f"{ZERO_TWIST_S} s of it: stop the robot when the goal ends")
     moving = [(t, v) for t, _x, _y, _yaw, v in truth
@@ -711,7 +711,12 @@ def check_aborts(facts: Facts) -> tuple[float, list[str]]:
         lines.append(f"a path behind a pillar: {got}; expected ABORTED, success: false, within "
                      f"{ABORT_AFTER_CONTACT_S:g} s of the contact")
     else:
-        points += 5
+        points += 3
+        why = _stops_at_end(facts, run, g, "a path behind a pillar")
+        if why:
+            lines.append(why)
+        else:
+            points += 2
     return points, lines
 
 
@@ -888,7 +893,8 @@ EX4B = _Ex4b(
         Criterion("4b.3", "feedback at 5 Hz or more; initial_distance constant and right; "
                   "remaining_distance decreasing, consistent with the robot, ending near 0", 15,
                   check_feedback, credit=CREDIT),
-        Criterion("4b.4", "aborts an empty path and a path it cannot follow (no progress)", 10,
+        Criterion("4b.4", "aborts an empty path (5) and a path it cannot follow (no progress: "
+                  "3), stopping the robot (2)", 10,
                   check_aborts, credit=CREDIT),
         Criterion("4b.5", "preemption: a cancel gives PREEMPTED and stops the robot (zero "
                   "Twist); a newer goal preempts the older and is followed", 15,

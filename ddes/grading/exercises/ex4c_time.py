@@ -420,6 +420,12 @@ def _fired(run: _Run, start: int, end: int) -> tuple[str, int | None]:
     return "", zeros[0]
 
 
+#: 4c.3's share for the zero Twists in every silence, and for the one warning (of 20).
+FIRES_POINTS, WARN_POINTS = 16.0, 4.0
+#: rosgraph_msgs/Log's WARN.
+WARN_LEVEL = 4
+
+
 def check_fires(facts: Facts) -> tuple[float, list[str]]:
     why = launch_problem(facts)
     if why:
@@ -427,7 +433,22 @@ def check_fires(facts: Facts) -> tuple[float, list[str]]:
     run = _facts(facts)
     got = [_fired(run, a, b)[0] for a, b in _silences(facts, run)]
     bad = [x for x in got if x]
-    return 20.0 * (len(got) - len(bad)) / len(got), bad
+    points = FIRES_POINTS * (len(got) - len(bad)) / len(got)
+    if run.zeros:  # it fired: the statement's warning, once (rospy.logwarn_once)
+        warns = [(t, text) for t, level, text in run.logs if level == WARN_LEVEL]
+        if len(warns) == 1 and warns[0][0] >= run.zeros[0]:
+            points += WARN_POINTS
+        elif not warns:
+            bad.append(f"no warning from your node when the watchdog fired (at wall "
+                       f"{_s(run.zeros[0])} s): warn once, with rospy.logwarn_once")
+        elif len(warns) > 1:
+            bad.append(f"{len(warns)} warnings from your node (the first at wall "
+                       f"{_s(warns[0][0])} s: {warns[0][1][:80]!r}); warn once, with "
+                       "rospy.logwarn_once")
+        else:
+            bad.append(f"your node warned at wall {_s(warns[0][0])} s, before the watchdog "
+                       f"fired (at {_s(run.zeros[0])} s)")
+    return points, bad
 
 
 def _false_alarms(run: _Run) -> list[str]:
@@ -558,7 +579,8 @@ EX4C = CourseExercise(
         Criterion("4c.2", "heartbeat stamps are the node's ROS time at publish (in ns)", 15,
                   check_stamps, credit=CREDIT),
         Criterion("4c.3", "the watchdog fires on ROS-time odometry silence (zero Twists at 10 Hz "
-                  "from ~timeout + 0.12 s of ROS time)", 20, check_fires, credit=CREDIT),
+                  "from ~timeout + 0.12 s of ROS time; 16) and warns once (4)", 20, check_fires,
+                  credit=CREDIT),
         Criterion("4c.4", "the watchdog is silent while ROS time stands still (paused simulator, "
                   "end of the bag) and while /odom arrives", 15, check_silent, credit=CREDIT),
         Criterion("4c.5", "a status line 'wall=%.1f ros=%.1f' every second of wall time", 10,
