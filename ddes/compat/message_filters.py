@@ -64,6 +64,18 @@ def _stamp_of(msg: Any) -> Time | None:
     return stamp
 
 
+def _stamp_or_now(msg: Any, allow_headerless: bool) -> Time | None:
+    """The stamp a filter files ``msg`` under: its header's, ROS time now for a headerless one
+    when ``allow_headerless``, else None after rospy's warning (the message is not used)."""
+    stamp = _stamp_of(msg)
+    if stamp is None:
+        if not allow_headerless:
+            _rospy.logwarn(_HEADERLESS)
+            return None
+        stamp = Time.now()
+    return stamp
+
+
 class SimpleFilter:
     """A filter's output: callbacks registered on it, called with what it signals."""
 
@@ -130,12 +142,9 @@ class Cache(SimpleFilter):
 
     def add(self, msg: Any) -> None:
         """Cache ``msg`` (dropping the oldest beyond ``cache_size``) and signal it."""
-        stamp = _stamp_of(msg)
+        stamp = _stamp_or_now(msg, self.allow_headerless)
         if stamp is None:
-            if not self.allow_headerless:
-                _rospy.logwarn(_HEADERLESS)
-                return
-            stamp = Time.now()
+            return
         self.cache_times.append(stamp)
         self.cache_msgs.append(msg)
         if len(self.cache_msgs) > self.cache_size:
@@ -248,12 +257,9 @@ class ApproximateTimeSynchronizer(TimeSynchronizer):
 
     def add(self, msg: Any, my_queue: dict[Time, Any], my_queue_index: int | None = None) -> None:
         """Queue ``msg`` of one input; signal the first set around it within ``slop``."""
-        stamp = _stamp_of(msg)
+        stamp = _stamp_or_now(msg, self.allow_headerless)
         if stamp is None:
-            if not self.allow_headerless:
-                _rospy.logwarn(_HEADERLESS)
-                return
-            stamp = Time.now()
+            return
         now = Time.now()
         simtime = not _rospy.is_wallclock()
         self._clock_jumped(my_queue, my_queue_index, now, simtime)

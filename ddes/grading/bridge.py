@@ -142,7 +142,8 @@ class Lockstep:
         self._service_owner: dict[str, int] = {}
         self._clients: dict[tuple[str, str], Any] = {}
         self._next_call = 0
-        self._known_services = -1
+        #: The service names offered so far (the master's, at the last offer).
+        self._known_services: set[str] = set()
         #: What the grader refused from the children, in order: ``(t_ns, text)``.
         self.problems: list[tuple[int, str]] = []
         #: Student nodes whose main ended with an exception, in order: ``(t_ns, node, the
@@ -459,15 +460,13 @@ class Lockstep:
     def _offer_new_services(self) -> None:
         """Offer every child the services served outside it: the other children's (their
         proxies) and the grader world's own, once each, as they appear."""
-        if len(self._children) < 2 and not self.world.master.services:
-            return
         services = self.world.master.services
-        if len(services) == self._known_services:
+        if services.keys() == self._known_services:
             return
-        self._known_services = len(services)
+        self._known_services = set(services)
         for name, entry in sorted(services.items()):
             for c in self._children:
-                if name in c.offered or self._service_owner.get(name) == c.index:
+                if name in c.offered:  # offered already, or its own (see _srv)
                     continue
                 c.offered.add(name)
                 c.offers.append((name, entry.type, entry.md5sum))

@@ -295,7 +295,7 @@ def encode_srv(node: str, service: str, type_: str, md5: str) -> bytes:
 def encode_resp(call_id: int, ok: bool, data: bytes | str) -> bytes:
     """``data``: the response's bytes (ok) or the error text, cut to :data:`MAX_ERROR` bytes."""
     if isinstance(data, str):
-        data = data.encode("utf-8")[:MAX_ERROR].decode("utf-8", "ignore").encode("utf-8")
+        data = _cut(data, MAX_ERROR)
     return _frame(RESP, _I64.pack(call_id) + bytes([1 if ok else 0]) + _b(data))
 
 
