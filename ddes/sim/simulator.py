@@ -27,6 +27,7 @@ digest of ``tests/sim/test_determinism.py`` (keep the line count above it, or re
 
 from __future__ import annotations
 
+import math
 import struct
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -238,6 +239,7 @@ class Simulator:
         self._contact: Prepared | None = None  # the obstacle touched, until 5 cm apart again
         self._pressing = False  # the last step was stopped by an obstacle
         self._pulse: tuple[int, float, float, float, float] | None = None
+        self._bump: tuple[int, int, float, float] | None = None  # bump(): from, steps, y, z
 
     def _check_free(self, pose: Pose2D, what: str) -> None:
         s, c = sincos(pose.yaw)
@@ -699,6 +701,15 @@ class Simulator:
                 self._pulse = None
             ax += a * bx
             ay += a * by
+        if self._bump is not None:
+            k0, n, by, bz = self._bump
+            j = step - k0
+            if j >= n:
+                self._bump = None
+            elif j >= 0:
+                a = sincos(_PI * (j + 0.5) / n)[0]
+                ay += by * a
+                az += bz * a
         s, c = sincos(0.5 * yaw)
         orientation.z = s
         orientation.w = c
@@ -707,6 +718,24 @@ class Simulator:
         acc.y = ay
         acc.z = az
         self._imu_pub.publish(self._imu_m)
+
+    def bump(self, lateral: float = 6.0, vertical: float = 4.0, duration: float = 0.06) -> None:
+        """A wheel rolls over a bump (a cable, a doorsill) from the next step: the IMU's
+        lateral and vertical accelerations (m/s^2, body frame) get a half-sine jolt of these
+        peaks over ``duration`` seconds; the motion, the forward acceleration and the collision
+        list are unchanged: a jolt, not a crash.  Recorded in the trace as ``sim.bump``."""
+        for what, value in (("lateral", lateral), ("vertical", vertical)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value)
+                    and abs(value) <= 100.0):
+                raise DdesValueError(f"bump(): {what} must be a number of m/s^2 within "
+                                     f"[-100, 100], got {value!r}")
+        if not (isinstance(duration, (int, float)) and 0.01 <= duration <= 1.0):
+            raise DdesValueError(f"bump(): duration must be within [0.01, 1] s (at least one "
+                                 f"10 ms step), got {duration!r}")
+        n = max(1, round(duration / _DT))
+        self._bump = (self._step + 1, n, float(lateral), float(vertical))
+        self.world.record("sim.bump", self.node.name, lateral=float(lateral).hex(),
+                          vertical=float(vertical).hex(), steps=n)
 
     def laser_origin(self) -> tuple[float, float, float]:
         """The laser's position and heading in the world now."""

@@ -1,4 +1,5 @@
-"""Exercise 4a: the reference earns everything over a few seeds, the starter at most 20 %, the
+"""Exercise 4a: the reference earns everything over a few seeds, the starter (exercise 3 working,
+the service part to write) at most 20 %, the
 console script is parsed as rosservice fills a SetBool request, a hard-coded service name loses
 the hidden scenarios; one grading's wall time is printed."""
 
@@ -38,6 +39,16 @@ def test_reference_has_no_false_failure_over_a_few_seeds() -> None:
 
 def test_starter_earns_at_most_20_percent() -> None:
     assert grade(EX, STARTER, seed=0).score <= 20
+
+
+def test_starter_is_exercise_3_working_with_only_the_service_part_to_write() -> None:
+    """"You start from your package of exercise 3": the starter drives into the pillar and marks
+    it (exercise 3's grader gives it full marks); what is left to write is the service part."""
+    assert grade(REGISTRY.get("ex3_pillar"), STARTER, seed=0).score == 100
+    text = (STARTER / NODE).read_text()
+    stubs = text.count("your code here")
+    assert stubs == 4, text  # the Service, ~stop_service_name, stop_callback, the stopped test
+    assert "def stop_callback" in text and "rospy.Service(" not in text
 
 
 def test_a_hard_coded_service_name_loses_the_hidden_scenarios(tmp_path: Path) -> None:

@@ -124,3 +124,36 @@ def test_circle_collision_matches_sampled_footprint(cx: float, cy: float, yaw: f
     if abs(dist - r) < 1e-9:
         return
     assert collides(fp, 0.0, 0.0, s, c, prepare(Circle(cx, cy, r))) == (dist < r)
+
+
+def test_bump_jolts_the_imu_sideways_and_up_without_a_crash() -> None:
+    world = ddes.World(seed=4)
+    sim = Simulator(world, WorldSpec.load("empty"), noise=False)
+    driver = world.create_node("driver")
+    pub = driver.advertise("/cmd_vel", TWIST, queue_size=1)
+    driver.create_timer(0.05, lambda e: pub.publish(TWIST(linear=VEC(x=0.5))))
+    imu: list[object] = []
+    driver.subscribe("/imu/data", get_message_class("sensor_msgs/Imu"), imu.append)
+    world.run(until=2.0)
+    before = len(imu)
+    sim.bump(-6.0, 4.0, 0.06)
+    world.run(until=3.0)
+    jolt = imu[before:]
+    ay = [m.linear_acceleration.y for m in jolt]
+    az = [m.linear_acceleration.z - 9.80665 for m in jolt]
+    # a half sine over six 10 ms steps from the next one: peaks just under the given values
+    assert min(ay) == pytest.approx(-6.0 * math.sin(math.pi * 2.5 / 6), rel=1e-12)
+    assert max(az) == pytest.approx(4.0 * math.sin(math.pi * 2.5 / 6), rel=1e-12)
+    assert sum(1 for a in ay if a != 0.0) == 6
+    assert all(abs(m.linear_acceleration.x) < 1e-9 for m in jolt)  # cruising: no forward jolt
+    assert sim.collisions == [] and sim.truth.v == pytest.approx(0.5)
+    ev = world.trace.select(kind="sim.bump", source="/simulator")
+    assert len(ev) == 1 and ev[0].details["steps"] == 6
+
+
+@pytest.mark.parametrize("args, bad", [((float("nan"),), "lateral"), ((1.0, 500.0), "vertical"),
+                                       ((1.0, 1.0, 0.001), "duration"), (("6",), "lateral")])
+def test_bump_refuses_bad_values_by_name(args: tuple[object, ...], bad: str) -> None:
+    sim = Simulator(ddes.World(seed=1), noise=False)
+    with pytest.raises(DdesValueError, match=f"bump\\(\\): {bad}"):
+        sim.bump(*args)  # type: ignore[arg-type]

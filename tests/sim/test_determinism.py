@@ -21,7 +21,7 @@ SCRIPT = HERE / "pillar_scenario.py"
 
 #: The pillar scenario's digest (seed 11, 20 s), recorded on the 2-core AMD EPYC CI machine,
 #: CPython 3.11.  A different value on another machine breaks the promise of bit-exactness.
-GOLDEN = "4423196b05b23725766fae73093aa318597c3a7b9a01703f5c02832b58ccb9ac"
+GOLDEN = "dbd39fdf5af1789d4ef8c430d6ef7482d5579833c43f92163a32ece545474f45"
 
 
 def run_scenario(env_extra: dict[str, str]) -> tuple[str, str, str]:

@@ -15,7 +15,9 @@ once (exercise 4a's contract) is the fact "this node called the e-stop", with it
 manoeuvres that must not trigger anything — a start (+2 m/s²) beside a pillar on the left
 within ``~min_distance`` but outside the front sector, passing a pillar at more than twice the
 hidden ``~min_distance``, braking (-2 m/s²), a start, a sharp S-turn (lateral
-acceleration v·ω up to 1.2 m/s²) — then, driving straight, the grader adds a pillar ahead
+acceleration v·ω up to 1.2 m/s²), a wheel over a cable while driving straight (a 60 ms
+sideways and upward jolt of the IMU, 5-8 m/s² and 3-5 m/s², the forward acceleration
+unchanged: ``Simulator.bump``) — then, driving straight, the grader adds a pillar ahead
 (``Simulator.add``) at ``min_distance`` + 1 m of the laser: the proximity stop must call A when
 the range drops below ``min_distance`` (the driver then brakes, as the e-stop would), once;
 0.5 s later the driver backs the robot off to 1.07-1.13 ``min_distance`` (inside the 20 % of
@@ -23,8 +25,8 @@ hysteresis: the same approach, no second call) and pushes it into that pillar: t
 detector must call B within 0.2 s of the impact the simulator records, and not before.  A stop
 at a time it is not expected is recorded, not obeyed, so that one fault does not hide the
 others.  Hidden scenarios draw the start heading, ``min_distance`` (0.8-1.5 m), the speeds
-(0.4-1.1 m/s), the passing pillar, the service names, then the side pillar and the back-off
-from the scenario seed.
+(0.4-1.1 m/s), the passing pillar, the service names, then the side pillar, the back-off and
+the bump from the scenario seed.
 
 **Deviations from teaching.md (E5).**  The design's grader-side SetBool stand-in cannot be
 called from the sandbox, hence the student's controller twice (above); one run per scenario
@@ -88,6 +90,10 @@ SIDE_GAP_MIN = 0.55
 #: the laser is ``params["backoff"]`` x min_distance from the pillar (inside the 20 % of
 #: hysteresis: the same approach), rests BACKOFF_REST, then pushes.
 BACKOFF_V, BACKOFF_REST = 0.4, 0.3
+#: During the straight phase a wheel rolls over a cable (``params["bump"]``: the time, the
+#: lateral and the vertical peak in m/s^2): a half-sine jolt of the IMU this long, sideways and
+#: up, the forward acceleration unchanged; not a crash.
+BUMP_S = 0.06
 
 
 def scenarios(seed: int, public: bool) -> list[Scenario]:
@@ -95,7 +101,7 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
         "yaw": 0.0, "min_distance": 1.0, "v1": 1.1, "v_turn": 0.9, "w_turn": 1.1,
         "v_approach": 0.8, "v_push": 1.0, "pass": (2.0, 3.5, 0.3),
         "service_a": "/emergency_stop", "service_b": "/crash_stop",
-        "side": (1.0, 0.6, 0.15), "backoff": 1.1})]
+        "side": (1.0, 0.6, 0.15), "backoff": 1.1, "bump": (7.2, 6.0, 4.0)})]
     for i in range(2):
         rng = hidden_random(f"ex5_safety/{i}", seed)
         m = round(rng.uniform(0.8, 1.5), 3)
@@ -117,6 +123,9 @@ def scenarios(seed: int, public: bool) -> list[Scenario]:
                                   round(max(SIDE_GAP_MIN, m * rng.uniform(0.55, 0.65)), 3),
                                   round(rng.uniform(0.1, 0.2), 3))
         out[-1].params["backoff"] = round(rng.uniform(1.07, 1.13), 3)
+        out[-1].params["bump"] = (round(rng.uniform(6.9, 7.4), 3),
+                                  round(rng.choice((-1, 1)) * rng.uniform(5.0, 8.0), 3),
+                                  round(rng.uniform(3.0, 5.0), 3))
     return out
 
 
@@ -156,6 +165,7 @@ class RunLog:
     braked_ns: int = -1
     push_ns: int = -1
     backed_ns: int = -1
+    bump_ns: int = -1
 
 
 def _gap(sim: Any, target: tuple[float, float, float] | None) -> float:
@@ -213,8 +223,14 @@ def _start_driver(world: Any, scenario: Scenario) -> None:
             (PHASES[3][1], p["v_turn"], w), (PHASES[4][1], p["v_turn"], -w),
             (PHASES[5][1], p["v_approach"], 0.0)]
 
+    bump = p.get("bump")
+    bump_ns = round(bump[0] * 1e9) if bump else -1
+
     def tick(_event: Any) -> None:
         now = world.now
+        if bump and log.bump_ns < 0 and now >= bump_ns:
+            log.bump_ns = now  # a wheel over a cable: a sideways jolt of the IMU, no crash
+            sim.bump(bump[1], bump[2], BUMP_S)
         if now < approach_ns:
             for until, v, om in plan:
                 if now < round(until * 1e9):
@@ -297,6 +313,15 @@ def _s(t_ns: int) -> str:
     return f"t={t_ns / 1e9:.2f} s"
 
 
+def _while(log: RunLog, t_ns: int) -> str:
+    """What the driver was doing at ``t_ns``: its phase, or the bump just before."""
+    if 0 <= log.bump_ns <= t_ns <= log.bump_ns + round(0.3e9):
+        return (f"{_phase(t_ns)}; a wheel had rolled over a cable "
+                f"{(t_ns - log.bump_ns) / 1e9:.2f} s before: a sideways and upward jolt of the "
+                "IMU, the forward acceleration unchanged")
+    return _phase(t_ns)
+
+
 def _proximity(facts: Facts) -> tuple[float, list[str]]:
     """(share of 5.1 in [0, 1], why): 0.75 for the stop in the window, 0.25 for one call."""
     why = launch_problem(facts) or _node_launched(facts, PROX)
@@ -351,7 +376,7 @@ def _crash(facts: Facts) -> tuple[float, list[str]]:
     before = [t for t, _ in log.stops_b if t < impact.t_ns]
     if before:
         return 0.0, [f"the crash detector stopped the robot at {_s(before[0])} "
-                     f"({_phase(before[0])}), before the impact at {_s(impact.t_ns)}"]
+                     f"({_while(log, before[0])}), before the impact at {_s(impact.t_ns)}"]
     after = [t for t, _ in log.stops_b if t <= impact.t_ns + round(CRASH_WITHIN * 1e9)]
     if not after:
         return 0.0, [f"no emergency stop within {CRASH_WITHIN:g} s of the impact at "
@@ -425,8 +450,8 @@ def check_no_false_stop(facts: Facts) -> tuple[float, list[str]]:
     impact = sim.collisions[0].t_ns if sim is not None and sim.collisions else end
     early_b = [t for t, _ in log.stops_b if t < min(impact, end)]
     if early_b:
-        lines.append(f"crash detector: an emergency stop at {_s(early_b[0])} while "
-                     f"{_phase(early_b[0])}, without a crash")
+        lines.append(f"crash detector: an emergency stop without a crash at {_s(early_b[0])} "
+                     f"({_while(log, early_b[0])})")
     elif crash_ok < 0.75:
         lines.append("crash detector: no false stop, but it earns this only once it detects "
                      "the crash (5.2)")
@@ -448,7 +473,7 @@ EX5 = _Ex5(
                   "obstacle: the crash detector calls the e-stop within 0.2 s of the impact "
                   "and not before (30), within 0.05 s (10)", 40, check_crash, credit=CREDIT),
         Criterion("5.3", "no emergency stop without a reason: none while starting, braking, "
-                  "turning sharply or passing a pillar at a distance (10 per node, once the "
+                  "turning sharply, rolling over a cable or passing a pillar at a distance (10 per node, once the "
                   "node stops the robot when it should)", 20, check_no_false_stop,
                   credit=CREDIT),
     ),

@@ -29,7 +29,10 @@ class SmbHighlevelController:
 
     def __init__(self):
         self.read_parameters()
-        pass  # your code here: the two publishers, the TF buffer and listener
+        self.cmd_publisher = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        self.marker_publisher = rospy.Publisher("visualization_marker", Marker, queue_size=1)
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         self.subscriber = rospy.Subscriber(self.scan_topic, LaserScan, self.scan_callback,
                                            queue_size=self.queue_size)
         self.stopped = False
@@ -41,7 +44,8 @@ class SmbHighlevelController:
         from the private parameters."""
         self.scan_topic = rospy.get_param("~scan_topic")
         self.queue_size = int(rospy.get_param("~queue_size"))
-        pass  # your code here: ~p_gain and ~speed
+        self.p_gain = float(rospy.get_param("~p_gain"))
+        self.speed = float(rospy.get_param("~speed"))
         pass  # your code here: ~stop_service_name
 
     def stop_callback(self, request):
@@ -51,12 +55,46 @@ class SmbHighlevelController:
 
     def scan_callback(self, scan):
         """Find the pillar in one scan, steer towards it, mark it."""
-        raise NotImplementedError("your code here")
+        pillar = find_pillar(scan.ranges, scan.angle_min, scan.angle_increment,
+                             scan.range_min, scan.range_max)
+        if pillar is None:
+            return
+        distance, angle = pillar
+        self.publish_marker(scan.header, distance, angle)
+        pass  # your code here: no driving command while stopped
+        twist = Twist()
+        twist.linear.x = self.speed
+        twist.angular.z = p_control(self.p_gain, angle)
+        self.cmd_publisher.publish(twist)
 
     def publish_marker(self, header, distance, angle):
         """A sphere at the pillar, transformed from the laser's frame into odom with TF at the
         scan's stamp."""
-        raise NotImplementedError("your code here")
+        try:
+            laser_to_odom = self.tf_buffer.lookup_transform("odom", header.frame_id,
+                                                            header.stamp, rospy.Duration(0.1))
+        except tf2_ros.TransformException as exc:
+            rospy.logwarn("no transform from %s to odom: %s", header.frame_id, exc)
+            return
+        t = laser_to_odom.transform
+        x, y, z = transform_point((t.translation.x, t.translation.y, t.translation.z),
+                                  (t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w),
+                                  polar_to_point(distance, angle))
+        marker = Marker()
+        marker.header.frame_id = "odom"
+        marker.header.stamp = header.stamp
+        marker.ns = "pillar"
+        marker.id = 0
+        marker.type = Marker.SPHERE
+        marker.action = Marker.ADD
+        marker.pose.position.x = x
+        marker.pose.position.y = y
+        marker.pose.position.z = z
+        marker.pose.orientation.w = 1.0
+        marker.scale.x = marker.scale.y = marker.scale.z = 0.3
+        marker.color.r = 1.0
+        marker.color.a = 1.0
+        self.marker_publisher.publish(marker)
 
 
 if __name__ == "__main__":

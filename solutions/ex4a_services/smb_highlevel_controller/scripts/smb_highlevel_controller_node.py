@@ -29,12 +29,10 @@ class SmbHighlevelController:
 
     def __init__(self):
         self.read_parameters()
-        ### BEGIN SOLUTION stub: pass  # your code here: the two publishers, the TF buffer and listener
         self.cmd_publisher = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         self.marker_publisher = rospy.Publisher("visualization_marker", Marker, queue_size=1)
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        ### END SOLUTION
         self.subscriber = rospy.Subscriber(self.scan_topic, LaserScan, self.scan_callback,
                                            queue_size=self.queue_size)
         self.stopped = False
@@ -48,10 +46,8 @@ class SmbHighlevelController:
         from the private parameters."""
         self.scan_topic = rospy.get_param("~scan_topic")
         self.queue_size = int(rospy.get_param("~queue_size"))
-        ### BEGIN SOLUTION stub: pass  # your code here: ~p_gain and ~speed
         self.p_gain = float(rospy.get_param("~p_gain"))
         self.speed = float(rospy.get_param("~speed"))
-        ### END SOLUTION
         ### BEGIN SOLUTION stub: pass  # your code here: ~stop_service_name
         self.stop_service_name = rospy.get_param("~stop_service_name", "/emergency_stop")
         ### END SOLUTION
@@ -69,25 +65,24 @@ class SmbHighlevelController:
 
     def scan_callback(self, scan):
         """Find the pillar in one scan, steer towards it, mark it."""
-        ### BEGIN SOLUTION
         pillar = find_pillar(scan.ranges, scan.angle_min, scan.angle_increment,
                              scan.range_min, scan.range_max)
         if pillar is None:
             return
         distance, angle = pillar
         self.publish_marker(scan.header, distance, angle)
+        ### BEGIN SOLUTION stub: pass  # your code here: no driving command while stopped
         if self.stopped:
             return
+        ### END SOLUTION
         twist = Twist()
         twist.linear.x = self.speed
         twist.angular.z = p_control(self.p_gain, angle)
         self.cmd_publisher.publish(twist)
-        ### END SOLUTION
 
     def publish_marker(self, header, distance, angle):
         """A sphere at the pillar, transformed from the laser's frame into odom with TF at the
         scan's stamp."""
-        ### BEGIN SOLUTION
         try:
             laser_to_odom = self.tf_buffer.lookup_transform("odom", header.frame_id,
                                                             header.stamp, rospy.Duration(0.1))
@@ -113,7 +108,6 @@ class SmbHighlevelController:
         marker.color.r = 1.0
         marker.color.a = 1.0
         self.marker_publisher.publish(marker)
-        ### END SOLUTION
 
 
 if __name__ == "__main__":
