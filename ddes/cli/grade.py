@@ -174,7 +174,7 @@ def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
 
     from ddes.grading.batch import Job, fingerprint, grade_all
     from ddes.grading.exercise import Exercise
-    from ddes.grading.report import GradeReport, write_atomic
+    from ddes.grading.report import GradeReport, utf8_safe, write_atomic
     from ddes.grading.sandbox import Limits
 
     assert isinstance(exercise, Exercise) and isinstance(limits, Limits)
@@ -229,8 +229,10 @@ def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
             return
         _write_all(got, out / names[i])
         by_id = {c.id: c.points for c in got.criteria}
-        row = [entries[i].name, f"{got.score:g}", f"{got.max_score:g}", f"{got.percent:.1f}",
-               *[f"{by_id[c]:g}" for c in ids], "; ".join(got.problems)[:500]]
+        # a name that is not UTF-8 (read with surrogateescape) is shown with U+FFFD
+        row = [utf8_safe(entries[i].name), f"{got.score:g}", f"{got.max_score:g}",
+               f"{got.percent:.1f}", *[f"{by_id[c]:g}" for c in ids],
+               utf8_safe("; ".join(got.problems)[:500])]
         rows[i] = row
         if mark is not None:  # last: its presence says the folder is finished
             write_atomic(out / names[i] / "batch.json",
@@ -239,14 +241,16 @@ def _batch(exercise: object, folder: Path, out: Path, args: argparse.Namespace,
     grade_all(exercise, jobs, limits=limits, workers=args.workers, scheduler=args.scheduler,
               retries=args.retries, on_report=finished, progress=progress_stream())
     for i, entry in enumerate(entries):
+        shown = utf8_safe(entry.name)
         if i in errors:
-            rows[i] = [entry.name, "", f"{exercise.max_points:g}", "", *[""] * len(ids),
-                       f"grader infrastructure error: {errors[i]}"]
-            print(f"{entry.name}: grader infrastructure error: {errors[i]}", file=sys.stderr)
+            rows[i] = [shown, "", f"{exercise.max_points:g}", "", *[""] * len(ids),
+                       utf8_safe(f"grader infrastructure error: {errors[i]}")]
+            print(utf8_safe(f"{shown}: grader infrastructure error: {errors[i]}"),
+                  file=sys.stderr)
         else:
             row = rows[i]
             assert row is not None
-            print(f"{entry.name}: {row[1]}/{row[2]}")
+            print(f"{shown}: {row[1]}/{row[2]}")
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(["submission", "score", "max_score", "percent", *ids, "problems"])

@@ -15,6 +15,10 @@
   threads on greenlets);
 * ``time`` to :mod:`ddes.compat.walltime` (``time.time()`` and ``time.sleep()`` on the
   kernel clock, which plays the wall clock);
+* ``random`` and ``datetime`` to the views of :mod:`ddes.compat.pinned`: the script's draws come
+  from a stream of the world named after the script (its file's base name, namespace and
+  arguments), and ``datetime.now()`` reads the kernel clock, so two runs of one seed draw and
+  stamp the same;
 * ``sys`` to a view of the real module whose ``argv`` is the script's command
   line (``rosrun`` arguments, remappings included, as ROS passes them).
 
@@ -201,9 +205,12 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
     from ddes.compat.threads import module
 
     script_threading = module()
-    from ddes.compat import walltime
+    from ddes.compat import pinned, walltime
 
     script_time = walltime.module(world)
+    env = world.env
+    script_datetime = pinned.datetime_module(lambda: int(env.now))
+    script_random = pinned.random_module(world, _stream_name(context))
 
     def script_import(name: str, globals: Any = None, locals: Any = None,  # noqa: A002
                       fromlist: Sequence[str] = (), level: int = 0) -> Any:
@@ -244,6 +251,10 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 return script_threading
             if name == "time":
                 return script_time
+            if name == "random":
+                return script_random
+            if name == "datetime":
+                return script_datetime
             if rest in ("", "msg", "srv") and top not in sys.builtin_module_names:
                 pkg = _message_package(world, top)
                 if pkg is not None:
@@ -269,6 +280,14 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
 
         table["print"] = script_print
     return table
+
+
+def _stream_name(context: ScriptContext) -> str:
+    """What names a script's random streams: its file's base name, namespace, arguments and
+    remappings (never the folder it lies in, which differs from one machine or grade to the
+    next)."""
+    remaps = sorted(f"{k}:={v}" for k, v in (context.remappings or {}).items())
+    return " ".join([context.path.name, context.namespace, *context.argv[1:], *remaps])
 
 
 def _is_importable(name: str) -> bool:

@@ -269,6 +269,7 @@ class Thread:
         self._target = target
         self._args = args
         self._kwargs = dict(kwargs or {})
+        self._auto_name = name is None
         self.name = name or "Thread"
         self.daemon = bool(daemon)
         self._done: simpy.Event | None = None
@@ -277,6 +278,22 @@ class Thread:
         if self._target is not None:
             self._target(*self._args, **self._kwargs)
 
+    def _bootstrap(self) -> None:
+        """``run()``, and what threading does when it raises: the traceback on standard error
+        ("Exception in thread NAME:"), the thread ends, the node and its other threads go on
+        (``threading.excepthook``; SystemExit ends the thread silently)."""
+        try:
+            self.run()
+        except SystemExit:
+            pass
+        except Exception as exc:  # noqa: BLE001 - a thread's error ends only the thread
+            import sys
+            import traceback
+
+            text = "".join(traceback.format_exception(type(exc), exc, exc.__traceback__))
+            print(f"Exception in thread {self.name}:\n{text}", end="", file=sys.stderr,
+                  flush=True)
+
     def start(self) -> None:
         me = current_task()
         if me is None or me.node is None:
@@ -284,7 +301,12 @@ class Thread:
                                 "greenlet of the node that starts it (call it after init_node)")
         if self._done is not None:
             raise RuntimeError("threads can only be started once")
-        self._done = spawn(me.world, self.run, node=me.node)
+        if self._auto_name:  # threading's "Thread-N (target)", N counted per node
+            n = me.node.__dict__.get("_ddes_threads", 0) + 1
+            me.node.__dict__["_ddes_threads"] = n
+            target = getattr(self._target, "__name__", "")
+            self.name = f"Thread-{n}" + (f" ({target})" if target else "")
+        self._done = spawn(me.world, self._bootstrap, node=me.node)
 
     def join(self, timeout: float | None = None) -> None:
         if self._done is None:

@@ -399,7 +399,7 @@ def fingerprint(exercise: Exercise, job: Job, limits: Limits | None) -> str | No
     tmp = Path(tempfile.mkdtemp(prefix="ddes-fingerprint-"))
     try:
         content = prepare(job.submission, tmp / "submission")
-    except SubmissionError:
+    except Exception:  # noqa: BLE001 - unreadable (its grade says why), or the machine failed
         return None
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

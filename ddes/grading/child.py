@@ -13,7 +13,10 @@ namespace, an unprivileged user where the grader is root).  It then
    and connect refused; no signals to processes outside the sandbox) and installs an audit hook
    that refuses sockets, subprocesses, ``exec``, ``fork`` and every use of ``ctypes`` that
    reaches memory, a library or a foreign function, ``import ctypes`` among them, as an
-   ImportError (numpy and scipy import it in ``try``, and work without it);
+   ImportError (numpy and scipy import it in ``try``, and work without it); a seccomp filter
+   (:func:`seccomp`) makes every new process, exec and socket fail in the kernel, whatever
+   path of Python reaches them; once confined, the grader's own modules (exercises, scenarios,
+   scoring) can be neither imported nor read;
 4. answers STEP frames (see :mod:`ddes.grading.protocol`) until END or end of input, and the
    CALL frames before them by calling the student's service through a bridge ServiceProxy.
 
@@ -111,6 +114,79 @@ def landlock(read_paths: list[str], write_paths: list[str]) -> int:
     return int(abi)
 
 
+# -- seccomp: no new process, no socket, whatever Python's audit events miss ----------------------
+
+#: Per architecture (``uname -m``): the AUDIT_ARCH value, the system calls refused with EPERM
+#: (socket, socketpair, fork, vfork, execve, execveat, ptrace, process_vm_readv/writev, unshare,
+#: setns, mount, bpf, userfaultfd, perf_event_open, io_uring_setup, keyctl, add_key,
+#: request_key), clone (refused unless it makes a thread: CLONE_THREAD) and clone3 (ENOSYS, so
+#: that the C library falls back to clone for its threads).
+_SECCOMP_ARCH: dict[str, tuple[int, tuple[int, ...], int, int]] = {
+    "x86_64": (0xC000003E, (41, 53, 57, 58, 59, 322, 101, 310, 311, 272, 308, 165, 321, 323,
+                            298, 425, 250, 248, 249), 56, 435),
+    "aarch64": (0xC00000B7, (198, 199, 221, 281, 117, 270, 271, 97, 268, 40, 280, 282, 241,
+                             425, 219, 217, 218), 220, 435),
+}
+_CLONE_THREAD = 0x00010000
+
+
+def seccomp_program(machine: str) -> list[tuple[int, int, int, int]] | None:
+    """The classic-BPF filter (code, jt, jf, k) for ``machine``, or None when unknown."""
+    spec = _SECCOMP_ARCH.get(machine)
+    if spec is None:
+        return None
+    arch, denied, clone, clone3 = spec
+    ld_w_abs, jeq, jge, jset, ret = 0x20, 0x15, 0x35, 0x45, 0x06
+    allow, eperm, enosys = 0x7FFF0000, 0x00050000 | 1, 0x00050000 | 38
+    prog: list[tuple[int, int, int, int]] = [
+        (ld_w_abs, 0, 0, 4),            # seccomp_data.arch
+        (jeq, 1, 0, arch),
+        (ret, 0, 0, eperm),             # another ABI (x32, ia32): refused
+        (ld_w_abs, 0, 0, 0),            # seccomp_data.nr
+        (jge, 0, 1, 0x40000000),        # the x32 range
+        (ret, 0, 0, eperm),
+    ]
+    n = len(denied)
+    for i, nr in enumerate(denied):      # jump to the EPERM at the end of the list
+        prog.append((jeq, n - i + 6, 0, nr))
+    prog += [
+        (jeq, 0, 3, clone),              # clone: a thread or nothing
+        (ld_w_abs, 0, 0, 16),            # the low word of args[0], the flags
+        (jset, 3, 0, _CLONE_THREAD),
+        (ret, 0, 0, eperm),
+        (jeq, 0, 1, clone3),
+        (ret, 0, 0, enosys),
+        (ret, 0, 0, allow),
+    ]
+    # the denied list jumps past these to here
+    prog.append((ret, 0, 0, eperm))
+    return prog
+
+
+def seccomp() -> str:
+    """Install :func:`seccomp_program` on every thread of this process (no_new_privs is set
+    first); returns what is enforced, or "" where the kernel or the machine has no seccomp."""
+    import ctypes
+    import platform
+    import struct
+
+    prog = seccomp_program(platform.machine())
+    if prog is None:
+        return ""
+    libc = ctypes.CDLL(None, use_errno=True)
+    if libc.prctl(38, 1, 0, 0, 0) != 0:  # PR_SET_NO_NEW_PRIVS
+        return ""
+    code = b"".join(struct.pack("<HBBI", c, jt, jf, k) for c, jt, jf, k in prog)
+    filt = ctypes.create_string_buffer(code, len(code))
+    fprog = struct.pack("<HxxxxxxQ", len(prog), ctypes.addressof(filt))
+    fbuf = ctypes.create_string_buffer(fprog, len(fprog))
+    libc.syscall.restype = ctypes.c_long
+    nr = {"x86_64": 317, "aarch64": 277}[platform.machine()]
+    if libc.syscall(nr, 1, 1, fbuf) != 0:  # seccomp(SET_MODE_FILTER, FLAG_TSYNC, &prog)
+        return ""
+    return "seccomp"
+
+
 #: What the audit hook refuses: whatever reaches past Python into the process or the system.
 _REFUSED_EVENTS = frozenset({
     "socket.__new__", "socket.connect", "socket.bind", "socket.sendto", "socket.getaddrinfo",
@@ -131,9 +207,24 @@ class SandboxImportRefused(ImportError):
     ``numpy.ctypeslib`` are then missing, as there)."""
 
 
+#: The grader's own package: once the child is confined, nothing more of it is imported or read
+#: (the child has the protocol and its stand-ins; exercises, scenarios and scoring stay out).
+_GRADING_DIR = os.path.dirname(os.path.abspath(__file__))
+#: Events one simulated instant may hold in the child before it ends as a zero-time livelock
+#: (the kernel's default, 10 million, takes half a minute to reach; this, a few seconds).
+INSTANT_BUDGET = 300_000
+
+
 def _audit(event: str, args: tuple[Any, ...]) -> None:
     if event in _REFUSED_EVENTS:
         raise PermissionError(f"the grading sandbox refuses {event}")
+    if event == "import" and args and str(args[0]).startswith("ddes.grading") \
+            and str(args[0]) not in sys.modules:
+        raise ImportError(f"the grading sandbox refuses to import the grader's {args[0]}: a "
+                          "node does not need it", name=str(args[0]))
+    if event == "open" and args and isinstance(args[0], str) \
+            and os.path.abspath(args[0]).startswith(_GRADING_DIR + os.sep):
+        raise PermissionError(f"the grading sandbox refuses to read the grader's {args[0]}")
     if event == "import" and args and str(args[0]).split(".")[0] in ("ctypes", "_ctypes"):
         raise SandboxImportRefused(
             "the grading sandbox refuses ctypes (it reaches memory and libraries outside "
@@ -354,6 +445,10 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     seed, scripts = _parse_scripts(argv)
     inp, out = os.dup(0), os.dup(1)
+    # the grader's mark on this child's processes (it finds leftovers by it in /proc): it stays
+    # in the process's environment, which what the child starts inherits, and leaves
+    # os.environ, which the student's code reads
+    os.environ._data.pop(os.environ.encodekey("DDES_GRADING_TOKEN"), None)  # type: ignore[attr-defined]
     devnull = os.open(os.devnull, os.O_RDONLY)
     os.dup2(devnull, 0)
     os.close(devnull)
@@ -363,12 +458,13 @@ def main(argv: list[str] | None = None) -> int:
     import random
 
     import ddes
-    from ddes.compat.scripts import run_script
+    from ddes.compat.scripts import run_script  # noqa: F401 - imported before the confinement
+    from ddes.errors import RunawayError
     from ddes.grading import bridge as _stand_ins  # noqa: F401 - imported before the confinement
     from ddes.grading import protocol
     from ddes.graph.world import World
 
-    world = World(seed, wall_budget=None)
+    world = World(seed, wall_budget=None, instant_budget=INSTANT_BUDGET)
     world.log_output = None
     import json
 
@@ -383,12 +479,16 @@ def main(argv: list[str] | None = None) -> int:
     world.display_paths = {cwd: "/submission", os.path.realpath(cwd): "/submission"}
     reads = sorted({sys.prefix, sys.base_prefix, sys.exec_prefix, ddes.__path__[0],
                     os.path.dirname(os.path.realpath(sys.executable)), "/usr/lib", "/usr/lib64",
-                    "/lib", "/lib64", "/usr/share/zoneinfo", "/dev/urandom", "/dev/null"})
+                    "/lib", "/lib64", "/usr/share/zoneinfo", "/dev/null"})
     reads += [p for p in sys.path if p and os.path.isdir(p) and "site-packages" in p]
     abi = landlock(reads, [cwd]) if os.environ.get("DDES_GRADING_LANDLOCK", "1") == "1" else 0
-    print(f"[ddes grading sandbox] landlock abi {abi}", file=sys.stderr, flush=True)
+    filtered = seccomp() if os.environ.get("DDES_GRADING_SECCOMP", "1") == "1" else ""
+    print(f"[ddes grading sandbox] landlock abi {abi}, seccomp {'on' if filtered else 'off'}",
+          file=sys.stderr, flush=True)
     for name in [m for m in sys.modules if m.split(".")[0] in ("ctypes", "_ctypes")]:
         del sys.modules[name]
+    from ddes.grading import determinism  # clocks and entropy of the child pinned to its world
+    determinism.install(world, scripts)
     sys.addaudithook(_audit)
     _write_all(out, protocol.encode_ready())
 
@@ -418,29 +518,42 @@ def main(argv: list[str] | None = None) -> int:
         if not isinstance(frame, protocol.Step):
             return 0
         t = frame.t_ns
-        if world.now < t:
-            world.run(until=_ns(t))
-        if offers:
-            bridge.offer(offers)
-            offers = []
-        bridge.inject(frame.messages)
-        if answers:
-            bridge.answer(answers)
-            answers = []
-        if calls:
-            bridge.call(calls)
-            calls = []
-        if not started:
-            started = True
-            for path, args in scripts:
-                done, context = run_script(world, os.path.join(cwd, path), args,
-                                           print_line=printer)
-                bridge.watch(path, done, context)
-        world.run_through(t)
-        bridge.callback_errors()
-        bridge.discover()
-        nxt = world.env.peek()
-        bridge.flush(-1 if nxt == float("inf") else int(nxt))
+        try:
+            _step(world, bridge, frame, t, scripts, cwd, printer, started, offers, answers,
+                  calls)
+        except RunawayError as exc:  # a zero-time livelock of the student's nodes: named, ended
+            print(f"ddes: {exc}", file=sys.stderr, flush=True)
+            return 3
+        started = True
+        offers, answers, calls = [], [], []
+
+
+def _step(world: Any, bridge: _Bridge, frame: Any, t: int, scripts: list[tuple[str, list[str]]],
+          cwd: str, printer: Any, started: bool, offers: list[Any], answers: list[Any],
+          calls: list[Any]) -> None:
+    """One STEP: time up to ``t``, what crossed in, the scripts at the first, the instant, the
+    reply."""
+    from ddes.compat.scripts import run_script
+
+    if world.now < t:
+        world.run(until=_ns(t))
+    if offers:
+        bridge.offer(offers)
+    bridge.inject(frame.messages)
+    if answers:
+        bridge.answer(answers)
+    if calls:
+        bridge.call(calls)
+    if not started:
+        for path, args in scripts:
+            done, context = run_script(world, os.path.join(cwd, path), args,
+                                       print_line=printer)
+            bridge.watch(path, done, context)
+    world.run_through(t)
+    bridge.callback_errors()
+    bridge.discover()
+    nxt = world.env.peek()
+    bridge.flush(-1 if nxt == float("inf") else int(nxt))
 
 
 def _ns(t: int) -> Any:

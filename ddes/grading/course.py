@@ -138,6 +138,16 @@ def _student_text(text: str, submission: Path) -> str:
     return f"{where}: {said}" if where else said
 
 
+def _middle(text: str, limit: int = 480) -> str:
+    """``text`` of at most ``limit`` characters, its middle cut out: a launch error quotes the
+    start tag (a value of 400,000 characters, say) before it says what is wrong and what to do,
+    and a report line keeps its start only."""
+    if len(text) <= limit:
+        return text
+    head = limit // 3
+    return f"{text[:head]} … {text[-(limit - head - 3):]}"
+
+
 def _arg_value(value: Any) -> str:
     """A parameter value as rospy's ``_param:=value`` reads it back (YAML)."""
     if isinstance(value, bool):
@@ -185,7 +195,7 @@ def start_launch(world: World, scenario: Scenario, submission: Path, launch: str
     try:
         plan = load_launch(path, {}, rospack, environ={})
     except (DdesError, ValueError, OSError, KeyError) as exc:
-        out.error = f"{launch} does not load: {_student_text(str(exc), submission)}"
+        out.error = f"{launch} does not load: {_middle(_student_text(str(exc), submission))}"
         return []
     out.plan = plan
     params = world.master.params
@@ -209,7 +219,7 @@ def start_launch(world: World, scenario: Scenario, submission: Path, launch: str
                            namespace=spec.namespace,
                            argv=[*spec.args, *(f"{a}:={b}" for a, b in spec.remappings)])
             except Exception as exc:  # noqa: BLE001 - a node the launch names that cannot start
-                text = _student_text(str(exc), submission)
+                text = _middle(_student_text(str(exc), submission))
                 out.problems.append(f"{spec.pkg}/{spec.type} ({spec.full_name}) did not start: "
                                     + (text if "$(find" in text else
                                        f"{type(exc).__name__}: {text}"))
@@ -340,7 +350,7 @@ def parse_source(facts: Facts, rel: str) -> ast.Module | None:
         return None
     try:
         return ast.parse(text, rel)
-    except (SyntaxError, ValueError):
+    except (SyntaxError, ValueError, RecursionError, MemoryError):  # too deep to parse
         return None
 
 

@@ -24,7 +24,7 @@ from ddes.errors import SubmissionError
 from ddes.grading.bridge import Lockstep
 from ddes.grading.exercise import Exercise, Facts, Scenario
 from ddes.grading.report import CriterionReport, GradeReport, finite_points
-from ddes.grading.sandbox import Limits, Sandbox, SandboxOutcome
+from ddes.grading.sandbox import Limits, RunBudget, Sandbox, SandboxOutcome
 from ddes.grading.scenarios import HiddenKey, select_scenarios
 from ddes.grading.submission import prepare
 from ddes.graph.world import World
@@ -75,8 +75,10 @@ def grade(exercise: Exercise, submission: str | Path, *, seed: int = 0, public: 
             report.problems.append(f"missing file(s): {', '.join(missing)} — costs the criteria "
                                    "that need them")
         first_failure: dict[str, Scenario] = {}
+        # the whole grade's wall budget (every scenario and child): a budget, never a score
+        deadline = time.monotonic() + (limits or Limits()).grade_wall_s
         for scenario in select_scenarios(exercise, seed, public, key):
-            world, facts = run_scenario(exercise, scenario, prepared, limits)
+            world, facts = run_scenario(exercise, scenario, prepared, limits, deadline)
             _note_problems(report, facts, limits or Limits())
             report.digests[scenario.name] = _digest(world)
             for cid, earned, lines in score_scenario(exercise, facts):
@@ -116,10 +118,19 @@ def submission_paths(prepared: Path) -> dict[str, str]:
 SHOWN_ROOT = "/submission"
 
 
+#: The most student nodes (children) one run starts; a launch file's others are refused.
+MAX_CHILDREN = 16
+#: The seed of every child's world, whatever the scenario: what the student's nodes draw from it
+#: (``random``, their named streams) is the same in every scenario, so it tells nothing of which
+#: scenario runs, public or hidden.
+CHILD_SEED = 0
+
+
 def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
-                 limits: Limits | None) -> tuple[World, Facts]:
+                 limits: Limits | None, deadline: float | None = None) -> tuple[World, Facts]:
     """Build the trusted world of ``scenario``, run the prepared submission (None: it could not
-    be read) in lockstep with it, and return the world and the facts of the run."""
+    be read) in lockstep with it, and return the world and the facts of the run.  ``deadline``
+    (``time.monotonic()``) ends the children still running then (the grade's wall budget)."""
     world = World(scenario.seed, wall_budget=None)
     # the trusted world prints nothing where the grade runs: its nodes' lines (the simulator's
     # "collision with grader_pillar", which the grader's own schedule causes) are not the
@@ -136,12 +147,18 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         params = {"/use_sim_time": True} if world.use_sim_time else {}
         # a child per student node, as ROS runs each node in a process of its own: each has its
         # own budgets, and one that hangs or dies leaves the others running
-        sandboxes = [Sandbox(prepared, [script], seed=scenario.seed, limits=limits, params=params)
+        budget = RunBudget()  # shared by the children of this run
+        extra = scripts[MAX_CHILDREN:]
+        scripts = scripts[:MAX_CHILDREN]
+        sandboxes = [Sandbox(prepared, [script], seed=CHILD_SEED, limits=limits, params=params,
+                             grade_deadline=deadline, run_budget=budget)
                      for script in scripts]
         lock = Lockstep(world, sandboxes)
         finished = exercise.finished
         outcome = lock.run(until, done=None if finished is None else lambda: finished(world))
-        refused = lock.problems
+        refused = lock.problems + [(0, f"{len(extra)} more student node(s) than the {MAX_CHILDREN} a "
+                                       f"grade runs were not started ({extra[0][0]}, …)")
+                                   for _ in extra[:1]]
         nodes = list(lock.proxies)
         deaths, failures, reads = lock.deaths, lock.callback_failures, lock.param_reads
         outcomes = [(path, o) for (path, _args), o in zip(scripts, lock.outcomes)]
@@ -187,6 +204,12 @@ def _note_problems(report: GradeReport, facts: Facts, limits: Limits) -> None:
             failed = o.returncode != 0  # an error's traceback ends a failing run's output
             report.problems.append(f"{name}: {who}{o.reason}"
                                    + (_last_words(o.output_tail) if failed else ""))
+        if o.leftovers:
+            shown = "; ".join(_cut(x, 80) for x in o.leftovers[:3])
+            report.problems.append(
+                f"{name}: {who}{len(o.leftovers)} process(es) your node started were still "
+                f"running after it ended, and the grader killed them ({shown}): a node must "
+                "not start processes")
     for t, who, text in facts.deaths:
         cap = ""
         if "[Errno 27] File too large" in text:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
@@ -20,7 +21,28 @@ from pathlib import Path
 
 from ddes._floats import left_sum
 
-__all__ = ["CriterionReport", "GradeReport", "write_atomic"]
+__all__ = ["CriterionReport", "GradeReport", "utf8_safe", "write_atomic"]
+
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def utf8_safe(text: str) -> str:
+    """``text`` with each lone surrogate replaced by U+FFFD, so that it encodes as UTF-8: a file
+    name that is not UTF-8 (read with ``surrogateescape``), a JSON ``\\udcff`` of a notebook or
+    of the student's output, wherever it reaches a report, prints and writes."""
+    return _SURROGATE.sub("\ufffd", text)
+
+
+def _utf8_safe_all(value: object) -> object:
+    """``value`` (JSON-like: dicts, lists, strings, numbers) with every string utf8_safe."""
+    if isinstance(value, str):
+        return utf8_safe(value)
+    if isinstance(value, dict):
+        return {(utf8_safe(k) if isinstance(k, str) else k): _utf8_safe_all(v)
+                for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_utf8_safe_all(v) for v in value]
+    return value
 
 
 @dataclass
@@ -96,7 +118,7 @@ class GradeReport:
                 out.append(f"  replay: {c.replay}")
         scope = "public scenarios only" if self.public else "all scenarios"
         out.append(f"total: {self.score:g}/{self.max_score:g} ({self.percent:.1f} %, {scope})")
-        return "\n".join(out) + "\n"
+        return utf8_safe("\n".join(out) + "\n")
 
     # -- Gradescope -------------------------------------------------------------------------------
     def to_gradescope(self) -> dict[str, object]:
@@ -115,7 +137,7 @@ class GradeReport:
                 "output": c.output(),
                 "visibility": c.visibility,
             })
-        return {
+        results: dict[str, object] = {
             "score": self.score,
             "execution_time": _round(self.execution_time),
             "output": "\n".join(summary),
@@ -126,6 +148,7 @@ class GradeReport:
                            "enforced": list(self.enforced), "digests": dict(self.digests)},
             "tests": tests,
         }
+        return _utf8_safe_all(results)  # type: ignore[return-value]
 
     def write_results(self, path: str | os.PathLike[str]) -> None:
         write_atomic(path, json.dumps(self.to_gradescope(), indent=2, ensure_ascii=False) + "\n")
@@ -172,7 +195,9 @@ def _xml_safe(text: str) -> str:
 
 def write_atomic(path: str | os.PathLike[str], text: str) -> None:
     """Write ``text`` to ``path`` through a temporary file and a rename: whatever was there
-    before (a file the student's process wrote, say) is replaced whole."""
+    before (a file the student's process wrote, say) is replaced whole.  ``text`` is written as
+    UTF-8, each lone surrogate as U+FFFD (:func:`utf8_safe`)."""
+    text = utf8_safe(text)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")

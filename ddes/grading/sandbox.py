@@ -13,6 +13,12 @@ on a temporary copy of the submission and talks to it only in the frames of
   when the grader is not root); where neither can be made, Landlock's TCP rules and the audit
   hook remain, and :attr:`Sandbox.enforced` says so;
 * **an unprivileged user**: when the grader runs as root the child runs as ``nobody``;
+* **no new process, no socket** (seccomp, installed by the child itself) and **no leftover**:
+  whatever the child started that survived the group kill (found in ``/proc`` by the token in
+  its environment) is killed and named in :attr:`SandboxOutcome.leftovers`;
+* **budgets of the whole run**: the grade's wall time (:attr:`Limits.grade_wall_s`, shared by
+  every child of a grade through ``grade_deadline``), the bytes of messages a child publishes
+  and what it keeps on disk (:attr:`Limits.message_bytes`, :attr:`Limits.disk_bytes`);
 * **files**: Landlock (when the kernel has it) limits reading to the Python installation, ddes
   and the submission copy, and writing to the submission copy;
 * **a scrubbed environment** (``PATH``, ``HOME`` and ``TMPDIR`` in the copy, ``PYTHONHASHSEED=0``,
@@ -48,8 +54,9 @@ from typing import Any
 
 from ddes.errors import GradingError, ProtocolError
 from ddes.grading import protocol
+from ddes.grading.determinism import aslr_off
 
-__all__ = ["Limits", "Sandbox", "SandboxOutcome", "StepReply"]
+__all__ = ["Limits", "RunBudget", "Sandbox", "SandboxOutcome", "StepReply"]
 
 _NOBODY = 65534
 _CLONE_NEWUSER = 0x10000000
@@ -72,6 +79,24 @@ class Limits:
     output_keep: int = 16 * 1024
     #: Most bytes of frames one step may return before it counts as flooding.
     step_bytes: int = 64 * 1024 * 1024
+    #: Wall seconds one whole grade may take, all its scenarios and children together (a step
+    #: just under :attr:`step_wall_s`, every step, would otherwise take hours).
+    grade_wall_s: float = 120.0
+    #: Most bytes of messages one child may publish in one run (what the grader keeps of them
+    #: grows with it).
+    message_bytes: int = 256 * 1024 * 1024
+    #: Most bytes, and files, the child may keep in its folder (the copy of the submission and
+    #: what it writes there); :attr:`file_bytes` bounds each file.
+    disk_bytes: int = 64 * 1024 * 1024
+    disk_files: int = 2000
+
+
+@dataclass
+class RunBudget:
+    """What the children of one run (a scenario) share: the bytes of messages they published,
+    against :attr:`Limits.message_bytes` (a child per node must not multiply the budget)."""
+
+    message_bytes: int = 0
 
 
 @dataclass
@@ -94,6 +119,9 @@ class SandboxOutcome:
     returncode: int | None = None
     output_tail: str = ""
     enforced: list[str] = field(default_factory=list)
+    #: Processes of the child's that were still running after it ended (each ``pid cmdline``):
+    #: the grader killed them.
+    leftovers: list[str] = field(default_factory=list)
 
 
 def _others_can_run_python() -> bool:
@@ -125,6 +153,43 @@ def landlock_abi() -> int:
         return 0
 
 
+def seccomp_available() -> bool:
+    """True when the child can install its seccomp filter (:func:`ddes.grading.child.seccomp`):
+    a machine it has a table for and a kernel with seccomp."""
+    import platform
+
+    from ddes.grading.child import seccomp_program
+
+    if seccomp_program(platform.machine()) is None:
+        return False
+    try:
+        with open("/proc/self/status", encoding="ascii", errors="replace") as f:
+            return any(line.startswith("Seccomp:") for line in f)
+    except OSError:
+        return False
+
+
+def _marked(token: str) -> list[tuple[int, str]]:
+    """The processes whose environment holds ``DDES_GRADING_TOKEN=token`` (a child's and all it
+    started: the environment is inherited, and the child cannot change what /proc shows of
+    it), each ``(pid, command line)``."""
+    mark = f"DDES_GRADING_TOKEN={token}".encode()
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/environ", "rb") as f:
+                if mark not in f.read().split(b"\0"):
+                    continue
+            with open(f"/proc/{entry}/cmdline", "rb") as f:
+                cmd = f.read(300).replace(b"\0", b" ").decode("utf-8", "replace").strip()
+        except OSError:  # gone, or not ours to read
+            continue
+        found.append((int(entry), cmd))
+    return sorted(found)
+
+
 def _libc_unshare() -> object:
     import ctypes
 
@@ -137,8 +202,10 @@ class Sandbox:
 
     def __init__(self, submission: str | os.PathLike[str], scripts: Sequence[tuple[str, Sequence[str]]],
                  *, seed: int = 0, limits: Limits | None = None, network_namespace: bool = True,
-                 landlock: bool = True, drop_user: bool = True,
-                 params: Mapping[str, Any] | None = None) -> None:
+                 landlock: bool = True, drop_user: bool = True, seccomp: bool = True,
+                 params: Mapping[str, Any] | None = None,
+                 grade_deadline: float | None = None,
+                 run_budget: RunBudget | None = None) -> None:
         self.limits = limits or Limits()
         self.seed = seed
         #: Global parameters the child sets before the student's nodes start (``/use_sim_time``).
@@ -157,6 +224,11 @@ class Sandbox:
                     os.chown(os.path.join(dirpath, f), _NOBODY, _NOBODY)
         self._network_namespace = network_namespace
         self._landlock = landlock
+        self._seccomp = seccomp and seccomp_available()
+        #: ``time.monotonic()`` by which the whole grade must be done (None: no such budget).
+        self.grade_deadline = grade_deadline
+        self._run_budget = run_budget if run_budget is not None else RunBudget()
+        self._disk_checked = 0.0
         self.outcome = SandboxOutcome()
         self._proc: subprocess.Popen[bytes] | None = None
         self._first = True
@@ -179,7 +251,9 @@ class Sandbox:
         env = {"PATH": "/usr/bin:/bin", "HOME": str(self.workdir), "TMPDIR": str(self.workdir),
                "PYTHONHASHSEED": "0", "PYTHONDONTWRITEBYTECODE": "1", "LANG": "C.UTF-8",
                "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-               "DDES_GRADING_LANDLOCK": "1" if self._landlock else "0"}
+               "DDES_GRADING_LANDLOCK": "1" if self._landlock else "0",
+               "DDES_GRADING_SECCOMP": "1" if self._seccomp else "0",
+               "DDES_GRADING_TOKEN": self._root.name}
         if self.params:
             env["DDES_GRADING_PARAMS"] = json.dumps(self.params, sort_keys=True)
         cmd = [sys.executable, "-s", "-P", "-B", "-m", "ddes.grading.child", *argv]
@@ -212,6 +286,10 @@ class Sandbox:
         enforced.append(f"Landlock ABI {abi}: files (read: Python, ddes, the copy; write: the "
                         "copy), TCP and signals confined" if abi else
                         "NO Landlock (kernel without it, or switched off): files not confined")
+        enforced.append("seccomp: no new process, no exec, no socket (kernel-enforced)"
+                        if self._seccomp else
+                        "NO seccomp (kernel or machine without it): processes and sockets are "
+                        "refused by the audit hook only; leftovers are still found and killed")
         enforced.append("audit hook: no sockets, subprocesses, exec, fork, ctypes, kill")
         self.outcome.enforced = enforced
         assert self._proc is not None and self._proc.stdout is not None
@@ -223,6 +301,7 @@ class Sandbox:
         lim = self.limits
         unshare = _libc_unshare() if netns else None
         as_nobody = self._as_nobody
+        no_aslr = aslr_off()  # libc looked up before the fork: id() order repeats
 
         def run() -> None:
             resource.setrlimit(resource.RLIMIT_AS, (lim.memory_bytes, lim.memory_bytes))
@@ -231,6 +310,7 @@ class Sandbox:
             resource.setrlimit(resource.RLIMIT_NOFILE, (lim.open_files, lim.open_files))
             resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
             resource.setrlimit(resource.RLIMIT_NPROC, (lim.processes, lim.processes))
+            no_aslr()
             if unshare is not None:
                 flags = _CLONE_NEWNET if os.geteuid() == 0 else _CLONE_NEWUSER | _CLONE_NEWNET
                 if unshare(flags) != 0:  # type: ignore[operator]
@@ -269,7 +349,7 @@ class Sandbox:
             if self._first:
                 self._first = False
                 self._ready(t_ns)
-            self._deadline = time.monotonic() + budget
+            self._deadline = self._step_deadline(budget)
             head = b"".join([*(protocol.encode_offer(*o) for o in offers),
                              *(protocol.encode_answer(*a) for a in answers),
                              *(protocol.encode_call(i, name, data) for i, name, data in calls)])
@@ -290,9 +370,23 @@ class Sandbox:
             self._failed(t_ns, exc)
         return None
 
+    def _step_deadline(self, budget: float) -> float:
+        """Now + ``budget``, or the grade's deadline when that comes first."""
+        deadline = time.monotonic() + budget
+        if self.grade_deadline is not None and self.grade_deadline < deadline:
+            return self.grade_deadline
+        return deadline
+
+    def _over_grade(self) -> bool:
+        return self.grade_deadline is not None and time.monotonic() >= self.grade_deadline
+
     def _failed(self, t_ns: int, exc: BaseException) -> None:
         budget = self.limits.step_wall_s
-        if isinstance(exc, TimeoutError):
+        if isinstance(exc, TimeoutError) and self._over_grade():
+            self.kill("killed", f"the grade's wall budget of {self.limits.grade_wall_s:g} s ran "
+                                f"out (at simulated t={t_ns / 1e9:.3f} s): the whole grade, "
+                                "every scenario and node together, gets that long")
+        elif isinstance(exc, TimeoutError):
             hint = "" if str(exc) else (": code that never sleeps (rate.sleep(), rospy.sleep()) "
                                         "or waits for ROS time in a loop keeps simulated time "
                                         "still")
@@ -300,6 +394,8 @@ class Sandbox:
                                 f" (at simulated t={t_ns / 1e9:.3f} s){hint}")
         elif isinstance(exc, EOFError):
             self._ended(t_ns)
+        elif isinstance(exc, _Budget):
+            self.kill("killed", str(exc))
         elif isinstance(exc, ProtocolError):
             self.kill("killed", f"broke the protocol at t={t_ns / 1e9:.3f} s: {exc}")
         elif isinstance(exc, OSError):  # a broken pipe: it has gone
@@ -312,8 +408,10 @@ class Sandbox:
         budget = self.limits.startup_wall_s
         try:
             kind, length = protocol.decode_header(
-                self._read(protocol.HEADER.size, time.monotonic() + budget))
+                self._read(protocol.HEADER.size, self._step_deadline(budget)))
         except TimeoutError:
+            if self._over_grade():
+                raise
             raise TimeoutError(f"not ready within the {budget:g} s start-up budget") from None
         if kind != protocol.READY or length:
             raise ProtocolError("the child's first frame is not READY")
@@ -356,16 +454,41 @@ class Sandbox:
             if total > self.limits.step_bytes:
                 raise ProtocolError(f"a step returned more than {self.limits.step_bytes} bytes")
             frame = protocol.decode_frame(kind, self._read(length, deadline))
+            if isinstance(frame, protocol.Msg):
+                self._run_budget.message_bytes += length
+                if self._run_budget.message_bytes > self.limits.message_bytes:
+                    raise _Budget(f"your nodes published more than "
+                                  f"{_size(self.limits.message_bytes)} of messages in this run "
+                                  f"(at simulated t={t_ns / 1e9:.3f} s): a grade keeps what "
+                                  "crosses, and allows that much")
             if isinstance(frame, protocol.Done):
                 if frame.next_ns != -1 and frame.next_ns < t_ns:
                     raise ProtocolError(f"next event at {frame.next_ns} ns is before the step "
                                         f"({t_ns} ns)")
                 reply.next_ns = frame.next_ns
+                self._check_disk(t_ns)
                 return reply
             if frame is None or isinstance(frame, (protocol.Step, protocol.Call, protocol.Offer,
                                                    protocol.Answer)):
                 raise ProtocolError("the child sent a grader-side frame")
             reply.frames.append(frame)
+
+    def _check_disk(self, t_ns: int) -> None:
+        """End the child once its folder holds more than :attr:`Limits.disk_bytes` or
+        :attr:`Limits.disk_files` (looked at after a step, at most every 0.1 s of wall time,
+        and at the end; a step can add at most what its wall budget lets it write)."""
+        now = time.monotonic()
+        if now - self._disk_checked < 0.1:
+            return
+        self._disk_checked = now
+        used, files = _disk_use(self.workdir, self.limits.disk_files)
+        lim = self.limits
+        if used > lim.disk_bytes or files > lim.disk_files:
+            raise _Budget(f"your node keeps more than {_size(lim.disk_bytes)} or "
+                          f"{lim.disk_files} files in its folder (at simulated "
+                          f"t={t_ns / 1e9:.3f} s: {used} bytes in {files}"
+                          f"{'+' if files > lim.disk_files else ''} files): a grade allows "
+                          "that much disk")
 
     # -- the end --------------------------------------------------------------------------------
     def _ended(self, t_ns: int, detail: str = "") -> None:
@@ -386,13 +509,15 @@ class Sandbox:
             return None
 
     def kill(self, state: str, reason: str) -> None:
-        """End the child's whole process group and record why."""
+        """End the child's whole process group, and every process it started that left the
+        group (found by the token in their environment), and record why."""
         if self._proc is not None:
             try:
                 os.killpg(self._proc.pid, signal.SIGKILL)
             except (ProcessLookupError, PermissionError):
                 pass
             code = self._reap(5.0)
+            self._kill_leftovers()
             self.outcome.returncode = code
             for pipe in (self._proc.stdin, self._proc.stdout):
                 try:
@@ -428,12 +553,70 @@ class Sandbox:
         shutil.rmtree(self._root, ignore_errors=True)
         return self.outcome
 
+    def _kill_leftovers(self) -> None:
+        for _ in range(3):  # a leftover may fork while it is found: look again
+            found = [(pid, cmd) for pid, cmd in _marked(self._root.name)
+                     if self._proc is None or pid != self._proc.pid]
+            if not found:
+                return
+            for pid, cmd in found:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except (ProcessLookupError, PermissionError):
+                    continue
+                text = f"{pid} {cmd}"
+                if text not in self.outcome.leftovers:
+                    self.outcome.leftovers.append(text)
+            for pid, _cmd in found:  # gone (or a zombie of its new parent) before the grade goes on
+                _wait_dead(pid, 2.0)
+
     def __enter__(self) -> Sandbox:
         self.start()
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _wait_dead(pid: int, wait_s: float) -> None:
+    """Wait until ``pid`` has ended (no /proc entry, or a zombie), at most ``wait_s``."""
+    end = time.monotonic() + wait_s
+    while time.monotonic() < end:
+        try:
+            with open(f"/proc/{pid}/stat", "rb") as f:
+                state = f.read().rpartition(b")")[2].split()[:1]
+        except OSError:
+            return
+        if state in ([b"Z"], [b"X"]):
+            return
+        time.sleep(0.005)
+
+
+class _Budget(Exception):
+    """A budget of the whole run passed (messages, disk): the child is ended with this text."""
+
+
+def _disk_use(root: Path, max_files: int) -> tuple[int, int]:
+    """Bytes (allocated blocks, at least the sizes) and files below ``root``, counting stops
+    past ``max_files``."""
+    used = files = 0
+    stack = [str(root)]
+    while stack and files <= max_files:
+        try:
+            entries = list(os.scandir(stack.pop()))
+        except OSError:
+            continue
+        for e in entries:
+            files += 1
+            try:
+                st = e.stat(follow_symlinks=False)
+            except OSError:
+                continue
+            used += max(st.st_size, st.st_blocks * 512) if not e.is_dir(follow_symlinks=False) \
+                else 0
+            if e.is_dir(follow_symlinks=False):
+                stack.append(e.path)
+    return used, files
 
 
 def _size(n: int) -> str:

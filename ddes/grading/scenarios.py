@@ -49,7 +49,10 @@ def scenario_seed(secret: bytes | str, exercise: str, student: str, attempt: int
         raise GradingError(f"attempt {attempt!r} must be an integer >= 0")
     if isinstance(index, bool) or not isinstance(index, int) or index < 0:
         raise GradingError(f"index {index!r} must be an integer >= 0")
-    mac = hmac.new(key, f"{exercise}/{student}/{attempt}/{index}".encode(), hashlib.sha256)
+    # surrogateescape: a student id from a file name that is not UTF-8 hashes as its bytes
+    mac = hmac.new(key, f"{exercise}/{student}/{attempt}/{index}".encode("utf-8",
+                                                                         "surrogateescape"),
+                   hashlib.sha256)
     return int.from_bytes(mac.digest()[:8], "big") >> 1
 
 

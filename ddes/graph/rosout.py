@@ -2,7 +2,9 @@
 
 Each log call (when its level is enabled for the node):
 
-* appends a ``log`` trace event (level, text, caller file and line);
+* appends a ``log`` trace event (level, text, caller file and line); a memory address in the
+  text (``<X object at 0x7f…>``, which differs in every process) is shown as ``0x…`` here, on
+  ``/rosout`` and in the printed line, so a run's digest does not depend on the process;
 * publishes a ``rosgraph_msgs/Log`` on ``/rosout`` (stamp = the node's ROS
   time, level DEBUG=1, INFO=2, WARN=4, ERROR=8, FATAL=16, the node's name and
   published topics), as rospy does;
@@ -37,6 +39,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from ddes.errors import DdesValueError
+from ddes.kernel.trace import scrub_addresses
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -203,6 +206,8 @@ class NodeLogger:
         world = node.world
         if world.display_paths:
             text = show_paths(text, world.display_paths)
+        if "0x" in text:  # an address (<X object at 0x7f…>) differs in every process
+            text = scrub_addresses(text)
         world.record("log", node.name, level=LEVEL_NAMES[level], msg=text,
                      file=frame.f_code.co_filename.rsplit("/", 1)[-1], line=frame.f_lineno)
         if self._pub is not None and self._log_cls is not None and not node.is_shutdown():

@@ -186,6 +186,9 @@ _ALL: tuple[TraceKind, ...] = (
     _k("sim.collision", "obstacle speed normal_x normal_y stamp", "sim",
        "The robot's footprint touched an obstacle (recorded when the contact begins): speed "
        "and the contact normal as float.hex, stamp in simulated ns."),
+    _k("sim.bump", "lateral vertical steps", "sim",
+       "A wheel rolled over a bump (Simulator.bump): the IMU's lateral and vertical jolt peaks "
+       "(m/s^2, float.hex) over this many 10 ms steps; no crash."),
     _k("sim.pause", "paused", "sim",
        "The simulator's physics paused (true) or went on (false)."),
     _k("sim.reset", "x y yaw", "sim",

@@ -38,7 +38,7 @@ from ddes.kernel.kinds import KIND_PREFIXES, TRACE_KINDS, TraceKind, close_match
 from ddes.kernel.trace_lines import _WIRE, LineEncoder, holds_wire, wire_field
 from ddes.time.units import HasNsec
 
-__all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical"]
+__all__ = ["Trace", "TraceEvent", "TraceSelection", "canonical", "scrub_addresses"]
 
 Row = tuple[Any, ...]
 Listener = Callable[["TraceEvent"], None]
@@ -58,7 +58,7 @@ class TraceEvent(NamedTuple):
         """The canonical JSON line of this event (used by the digest).
 
         Memory addresses in reprs (``<X object at 0x7f…>``) are replaced by
-        ``0x…``: they differ from run to run and machine to machine.
+        ``0x…`` (:func:`scrub_addresses`): they differ from run to run and machine to machine.
         """
         line = json.dumps(
             [self.t, self.kind, self.source, self.details],
@@ -67,13 +67,24 @@ class TraceEvent(NamedTuple):
             default=canonical,
             ensure_ascii=False,
         )
-        if " at 0x" in line:
-            line = _ADDRESS.sub(" at 0x…>", line)
-        return line
+        return scrub_addresses(line)
 
 
-#: A memory address in a default repr.
-_ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+>")
+#: A memory address as CPython's reprs print it: ``<X object at 0x7f…>``, ``<weakref at 0x…;
+#: to 'X' at 0x…>``, ``<cell at 0x…: …>``, ``<code object f at 0x…, file …>``, a greenlet's
+#: ``(otid=0x…)``: the digits after ``at 0x`` or ``otid=0x``.
+_ADDRESS = re.compile(r"(?<=\bat 0x)[0-9a-fA-F]+|(?<=otid=0x)[0-9a-fA-F]+")
+
+
+def scrub_addresses(text: str) -> str:
+    """``text`` with every memory address of a repr shown as ``0x…`` (``<X object at 0x…>``):
+    an address differs from one process to the next, so none may reach a digest.  The
+    trace's digest scrubs its lines with it, and a node's log (:mod:`ddes.graph.rosout`) its
+    text before the text enters the trace and ``/rosout`` (whose messages are digested as
+    bytes)."""
+    if "0x" not in text:
+        return text
+    return _ADDRESS.sub("…", text)
 
 
 def canonical(value: object) -> object:
@@ -92,7 +103,7 @@ def canonical(value: object) -> object:
     if isinstance(value, (bytes, bytearray, memoryview)):
         return "sha256:" + hashlib.sha256(value).hexdigest()
     if isinstance(value, (set, frozenset)):
-        return sorted(value, key=repr)
+        return sorted(value, key=lambda v: scrub_addresses(repr(v)))
     if isinstance(value, tuple):
         return list(value)
     tolist = getattr(value, "tolist", None)  # numpy arrays and scalars
@@ -270,9 +281,7 @@ def _lines(rows: list[Row], encoder: LineEncoder | None = None) -> str:
     else:
         text = "\n".join(map(_row_line, rows))
         text += "\n"
-    if " at 0x" in text:
-        text = _ADDRESS.sub(" at 0x…>", text)
-    return text
+    return scrub_addresses(text)
 
 
 #: Rows encoded per sha256 update when folding (bounds the text held at once).

@@ -97,3 +97,42 @@ def test_a_deadlock_names_the_nodes_instead_of_freezing(tmp_path: Path) -> None:
     """)
     assert printed == ["DeadlockError deadlock: /philosopher -> /philosopher -> /philosopher",
                        "False False"]
+
+
+def test_an_exception_ends_only_its_thread_as_in_python(tmp_path: Path,
+                                                        capfd: object) -> None:
+    """threading.excepthook's behaviour: "Exception in thread Thread-1 (boom):" and the
+    traceback on standard error; the node and its other threads go on."""
+    import subprocess
+    import sys
+
+    body = """
+        import threading, time
+        def boom():
+            raise ValueError("only this thread")
+        t = threading.Thread(target=boom)
+        t.start()
+        t.join()
+        print("alive", t.is_alive(), t.name)
+    """
+    real = subprocess.run([sys.executable, "-c", textwrap.dedent(body)], capture_output=True,
+                          text=True, check=True)
+    printed = _run(tmp_path, """
+        import threading
+        import rospy
+        rospy.init_node("threads")
+        def boom():
+            raise ValueError("only this thread")
+        t = threading.Thread(target=boom)
+        t.start()
+        t.join()
+        print("alive", t.is_alive(), t.name)
+        rospy.sleep(0.5)
+        print("the node goes on at", rospy.get_time())
+    """)
+    assert real.stdout.splitlines() == printed[:1] == ["alive False Thread-1 (boom)"]
+    assert printed[1:] == ["the node goes on at 0.5"]
+    err = capfd.readouterr().err  # type: ignore[attr-defined]
+    assert real.stderr.startswith("Exception in thread Thread-1 (boom):\nTraceback")
+    assert "Exception in thread Thread-1 (boom):\nTraceback" in err
+    assert err.rstrip().endswith("ValueError: only this thread")

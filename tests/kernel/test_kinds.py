@@ -479,6 +479,7 @@ def _sim() -> ddes.World:
     sim.resume()
     sim.place(0.0, 0.0, 0.0)
     sim.reset()
+    sim.bump()
     world.run(until=3.5)
     return world
 
@@ -506,7 +507,7 @@ EXPECTED = {
     "bags": {"rosbag.play", "rosbag.loop", "rosbag.done", "rosbag.record", "rosbag.stop"},
     "node_exit": {"node.exit"},
     "reconfigure": {"reconfigure.update"},
-    "sim": {"sim.pose", "sim.collision", "sim.pause", "sim.place", "sim.reset"},
+    "sim": {"sim.pose", "sim.collision", "sim.pause", "sim.place", "sim.reset", "sim.bump"},
 }
 
 

@@ -216,7 +216,7 @@ class StudentScript:
                     continue
                 try:
                     tree = ast.parse(text, rel)
-                except (SyntaxError, ValueError):
+                except (SyntaxError, ValueError, RecursionError, MemoryError):  # too deep to parse
                     continue
                 self._cache[dotted] = Source(rel, tree, package)
                 return self._cache[dotted]
