@@ -112,7 +112,7 @@ def start_node(
     try:
         nt = types[node_type]
     except KeyError:
-        script = find_script(rospack.get_path(package), node_type)
+        script = find_script(rospack.get_path(package), node_type, package)
         if script is not None:
             return _start_script(world, package, script, name=name, namespace=namespace,
                                  argv=argv, remappings=remappings, cwd=cwd)
@@ -166,13 +166,81 @@ def list_scripts(package_dir: Path) -> list[Path]:
     return found
 
 
-def find_script(package_dir: Path, node_type: str) -> Path | None:
-    """``scripts/<node_type>`` or ``nodes/<node_type>`` of a package, as rosrun finds it."""
+#: Most directory entries a search of one package looks at (a package is a few hundred files;
+#: the bound keeps a link loop or a huge tree from stalling rosrun).
+MAX_SEARCH_ENTRIES = 20_000
+
+
+class AmbiguousNodeType(DdesError):
+    """Several executables of that name below the package (roslaunch's "multiple files
+    named")."""
+
+
+def find_executables(package_dir: Path, name: str) -> list[Path]:
+    """Every executable file named ``name`` below ``package_dir``, as rosrun and roslaunch
+    find a node (``roslib.packages.find_node``: the whole package tree, links followed, hidden
+    folders skipped, readable and executable by its owner), in sorted order."""
+    import os
+    import stat
+
+    found: list[Path] = []
+    seen = 0
+    visited: set[tuple[int, int]] = set()
+    stack = [str(package_dir)]
+    while stack:
+        here = stack.pop()
+        try:
+            st = os.stat(here)
+        except OSError:
+            continue
+        if (st.st_dev, st.st_ino) in visited:  # a link loop
+            continue
+        visited.add((st.st_dev, st.st_ino))
+        try:
+            entries = sorted(os.scandir(here), key=lambda e: e.name)
+        except OSError:
+            continue
+        subdirs = []
+        for e in entries:
+            seen += 1
+            if seen > MAX_SEARCH_ENTRIES:
+                raise DdesError(f"{package_dir} holds more than {MAX_SEARCH_ENTRIES} entries: "
+                                f"too many to search for {name}; give the script's path")
+            try:
+                if e.is_dir():
+                    if not e.name.startswith("."):
+                        subdirs.append(e.path)
+                    continue
+                if e.name == name:
+                    mode = e.stat().st_mode
+                    if stat.S_ISREG(mode) and mode & (stat.S_IRUSR | stat.S_IXUSR) == (
+                            stat.S_IRUSR | stat.S_IXUSR):
+                        found.append(Path(e.path))
+            except OSError:
+                continue
+        stack.extend(reversed(subdirs))
+    return sorted(found)
+
+
+def find_script(package_dir: Path, node_type: str, package: str = "") -> Path | None:
+    """The script ``node_type`` of a package, as rosrun finds it: ``scripts/<node_type>`` or
+    ``nodes/<node_type>`` (executable or not: a zip drops the bit), else the one executable file
+    of that name anywhere below the package (rospy_tutorials keeps its scripts in
+    ``001_talker_listener/`` …, actionlib its test nodes in ``test/``).  Several raise
+    :class:`AmbiguousNodeType` with roslaunch's text."""
     for folder in SCRIPT_FOLDERS:
         path = Path(package_dir) / folder / node_type
         if path.is_file():
             return path
-    return None
+    if "/" in node_type or node_type in ("", ".", ".."):
+        return None
+    matches = find_executables(Path(package_dir), node_type)
+    if len(matches) > 1:
+        listed = "".join(f"\n- {m}" for m in matches)
+        raise AmbiguousNodeType(f"multiple files named [{node_type}] in package "
+                                f"[{package or Path(package_dir).name}]:{listed}\n"
+                                "Please specify full path instead")
+    return matches[0] if matches else None
 
 
 def _start_script(world: World, package: str, script: Path, *, name: str | None,

@@ -224,7 +224,11 @@ class LaunchRunner:
             except DdesError as exc:
                 raise ROSLaunchException(
                     f"{where}cannot launch node of type [{spec.pkg}/{spec.type}]: {exc}") from None
-            if spec.type not in types and find_script(folder, spec.type) is None:
+            try:
+                script = None if spec.type in types else find_script(folder, spec.type, spec.pkg)
+            except DdesError as exc:  # several executables of that name (roslaunch's text)
+                raise ROSLaunchException(f"{where}{exc}") from None
+            if spec.type not in types and script is None:
                 known = ", ".join(sorted(types)) or "none"
                 raise ROSLaunchException(
                     f"{where}cannot launch node of type [{spec.pkg}/{spec.type}]: Couldn't find "
