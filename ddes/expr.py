@@ -28,8 +28,12 @@ unpacking, ``await``/``yield``, and calls of anything else (``getattr``,
 :class:`~ddes.errors.ResourceLimitError` before the work is done: sources over
 :data:`MAX_SOURCE_CHARS`, trees deeper than :data:`MAX_DEPTH`, integers over
 :data:`MAX_INT_BITS` bits (``9**9**9``), strings, bytes, lists and ranges over
-:data:`MAX_ITEMS` items (``'a' * 10**10``), and evaluations that would touch
-more than :data:`MAX_WORK` items in all.  An expression that fails on its
+:data:`MAX_ITEMS` items (``'a' * 10**10``; a ``join`` or ``%``-format result is
+sized before it is built), and evaluations that would touch more than
+:data:`MAX_WORK` items in all (or the caller's lower ``budget``): a call is
+charged for what it reads before it runs (a method its owner, each argument
+its unfolded size, ``==`` both sides, ``pow(a, b, mod)`` its square-and-multiply
+cost), so a cheap-looking expression cannot run for seconds.  An expression that fails on its
 values (``1 / 0``, an unknown name) raises a ddes error whose message starts
 with Python's (``ZeroDivisionError: division by zero``).
 """
@@ -141,7 +145,7 @@ _NODE_WORDS = {
     "Await": "await", "Yield": "yield", "YieldFrom": "yield from",
 }
 #: printf-style conversions: ``%[(key)][flags][width][.precision][length]type``.
-_PERCENT = re.compile(r"%(?:\([^)]*\))?[#0\- +]*(\*|\d+)?(?:\.(\*|\d+))?[hlL]?(.)", re.S)
+_PERCENT = re.compile(r"%(?:\(([^)]*)\))?[#0\- +]*(\*|\d+)?(?:\.(\*|\d+))?[hlL]?(.)", re.S)
 #: format-spec mini language with plain numbers only.
 _SPEC = re.compile(r"(?:.?[<>=^])?[+\- ]?z?#?0?(\d*)[,_]?(?:\.(\d+))?[bcdeEfFgGnosxX%]?\Z", re.S)
 _MAX_WIDTH = 1000
@@ -198,9 +202,22 @@ class Expression:
         self._class_methods = {k: frozenset(v) for k, v in class_methods.items()}
         self._builtins = dict(builtins)
 
-    def evaluate(self, names: Mapping[str, object] | None = None) -> object:
-        """The expression's value with ``names`` in scope; every failure a :class:`DdesError`."""
-        return _Evaluator(self, names if names is not None else {}).run()
+    def evaluate(self, names: Mapping[str, object] | None = None, *,
+                 budget: int | None = None) -> object:
+        """The expression's value with ``names`` in scope; every failure a :class:`DdesError`.
+
+        ``budget`` is the work this evaluation may do, in items touched (default and most
+        :data:`MAX_WORK`); past it :class:`~ddes.errors.ResourceLimitError`.
+        """
+        return self.evaluate_counted(names, budget=budget)[0]
+
+    def evaluate_counted(self, names: Mapping[str, object] | None = None, *,
+                         budget: int | None = None) -> tuple[object, int]:
+        """``(value, work)``: :meth:`evaluate` and the items it touched, for callers that
+        bound many evaluations together (roslaunch's ``$(eval)``s of one load)."""
+        limit = MAX_WORK if budget is None else min(int(budget), MAX_WORK)
+        evaluator = _Evaluator(self, names if names is not None else {}, limit)
+        return evaluator.run(), evaluator.work
 
     __call__ = evaluate
 
@@ -345,23 +362,43 @@ def _size(value: object) -> int:
     return 0
 
 
+def _text_size(value: object) -> int:
+    """About how many characters ``str(value)`` has, without building it."""
+    if isinstance(value, (str, bytes)):
+        return len(value)
+    if isinstance(value, bool) or value is None:
+        return 5
+    if isinstance(value, int):
+        return value.bit_length() * 31 // 100 + 2  # log10(2) digits per bit, and a sign
+    if isinstance(value, float):
+        return 24
+    return deep_size(value, MAX_ITEMS)
+
+
 def _is_int(value: object) -> bool:
     return isinstance(value, int)
 
 
-def _check_pow(a: object, b: object, mod: object = None) -> None:
+def _check_pow(a: object, b: object, mod: object = None) -> int:
+    """Refuse a power too large to build; returns the work a modular power costs."""
     if not (_is_int(a) and _is_int(b)):
-        return
+        return 0
     assert isinstance(a, int) and isinstance(b, int)
     if mod is not None:
         if _is_int(mod) and max(abs(b).bit_length(), abs(mod).bit_length()) > 4096:  # type: ignore[arg-type]
             raise _too_big("pow(a, b, mod) with numbers over 4096 bits", "the modular pow limit")
-        return
+        if not _is_int(mod):
+            return 0
+        # square-and-multiply: one product of mod-sized numbers per exponent bit, each
+        # costing (64-bit digits)**2: pow(2**4096-1, 2**4096-1, 2**4096-3) takes 0.1 s
+        digits = abs(mod).bit_length() // 64 + 1  # type: ignore[arg-type]
+        return abs(b).bit_length() * digits * digits
     if b <= 0 or abs(a) <= 1:
-        return
+        return 0
     bits = b * math.log2(abs(a))
     if bits > MAX_INT_BITS:
         raise _too_big(f"{a} ** {b} (about {bits:.3g} bits)", f"the limit of {MAX_INT_BITS} bits")
+    return 0
 
 
 def _check_binop(op: ast.operator, a: object, b: object) -> None:
@@ -389,25 +426,49 @@ def _check_binop(op: ast.operator, a: object, b: object) -> None:
                 raise _too_big("a concatenation", f"the limit of {MAX_ITEMS} items")
     elif isinstance(op, ast.Mod) and isinstance(a, (str, bytes)):
         text = a.decode("latin-1") if isinstance(a, bytes) else a
+        # the result's size, estimated before formatting: the text, every width and
+        # precision, and each value it prints (a '%(k)s' repeated prints d['k'] each time)
+        estimate = len(text)
+        position = 0
         for m in _PERCENT.finditer(text):
-            width, precision = m.group(1), m.group(2)
+            key, width, precision, kind = m.groups()
             if "*" in (width, precision):
                 raise _refuse("'*' widths in %-formatting are not allowed")
             if any(x and int(x) > _MAX_WIDTH for x in (width, precision)):
                 raise _too_big("a %-format width or precision", f"{_MAX_WIDTH}")
+            estimate += int(width or 0) + int(precision or 0)
+            if kind == "%":
+                continue
+            if key is not None:
+                value = b.get(key) if isinstance(b, dict) else None
+            elif isinstance(b, tuple):
+                value = b[position] if position < len(b) else None
+                position += 1
+            else:
+                value = b
+            estimate += _text_size(value)
+            if estimate > MAX_ITEMS:
+                raise _too_big("the result of %-formatting (estimated before formatting)",
+                               f"the limit of {MAX_ITEMS} items")
 
 
 class _Evaluator:
-    def __init__(self, expr: Expression, names: Mapping[str, object]) -> None:
+    def __init__(self, expr: Expression, names: Mapping[str, object],
+                 limit: int = MAX_WORK) -> None:
         self.expr = expr
         self.names = names
         self.work = 0
+        self.limit = limit
 
     def charge(self, n: int) -> None:
         self.work += n
-        if self.work > MAX_WORK:
+        if self.work > self.limit:
             raise _too_big(f"evaluating {self.expr.source[:80]!r}",
-                           f"the limit of {MAX_WORK} items touched")
+                           f"the limit of {self.limit} items touched")
+
+    def left(self) -> int:
+        """Work still allowed (a deep_size walk stops one item past it)."""
+        return max(self.limit - self.work, 0)
 
     def run(self) -> object:
         try:
@@ -498,7 +559,10 @@ class _Evaluator:
         left = self.ev(node.left)
         for op, comp in zip(node.ops, node.comparators):
             right = self.ev(comp)
-            self.charge(_size(left) + _size(right))
+            if isinstance(op, (ast.Is, ast.IsNot)):
+                self.charge(1)
+            else:  # == on two nested values (messages too) walks both
+                self.charge(deep_size(left, self.left()) + deep_size(right, self.left()))
             if not _CMPOPS[type(op)](left, right):
                 return False
             left = right
@@ -572,6 +636,7 @@ class _Evaluator:
         if isinstance(func, ast.Attribute):
             owner = self.ev(func.value)
             fn = self.method(owner, func.attr)
+            self.charge(_size(owner))  # a method reads its owner: s.count(x), s.find(x)
         elif isinstance(func, ast.Name):
             fn = self.ev(func)
             if not self.callable_by_name(fn):
@@ -589,7 +654,8 @@ class _Evaluator:
                               "function is not allowed; only abs, bool, chr, float, int, len "
                               "and ord may be passed (and classes to isinstance)")
         self.check_call(fn, args, kwargs)
-        self.charge(sum(_size(a) for a in [*args, *kwargs.values()]))
+        for a in [*args, *kwargs.values()]:
+            self.charge(deep_size(a, self.left()))
         result = fn(*args, **kwargs)
         self.charge(_size(result))
         if _size(result) > MAX_ITEMS:
@@ -637,7 +703,7 @@ class _Evaluator:
             if n > MAX_ITEMS:
                 raise _too_big(f"range{tuple(args)} of {n} items", f"the limit of {MAX_ITEMS}")
         elif fn is pow:
-            _check_pow(*args[:3], **kwargs)  # type: ignore[misc,unused-ignore]
+            self.charge(_check_pow(*args[:3], **kwargs))  # type: ignore[misc,unused-ignore]
         elif fn is round and len(args) > 1 and _is_int(args[1]) and abs(args[1]) > _MAX_WIDTH:
             raise _too_big(f"round(..., {args[1]})", f"ndigits of {_MAX_WIDTH}")
         elif fn is sum:
@@ -671,7 +737,11 @@ class _Evaluator:
             if isinstance(items, (list, tuple)):
                 total = len(owner) * len(items) + sum(len(x) for x in items
                                                       if isinstance(x, (str, bytes)))
-                if total > MAX_ITEMS:
-                    raise _too_big("the result of str.join", f"the limit of {MAX_ITEMS} items")
-            elif not isinstance(items, (str, bytes)):
+            elif isinstance(items, (str, bytes)):
+                # the separator between every two characters: ('a' * 10**6).join('b' * 1500)
+                total = len(owner) * max(len(items) - 1, 0) + len(items)
+            else:
                 raise _refuse("str.join takes a list, tuple or str here")
+            if total > MAX_ITEMS:
+                raise _too_big(f"the result of str.join ({total} items)",
+                               f"the limit of {MAX_ITEMS} items")

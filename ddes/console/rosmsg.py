@@ -19,6 +19,13 @@ Two front ends share the commands below:
 
 ``rosmsg show -b BAG`` is not offered, and the type is never read from
 standard input (rosmsg reads it there when it is missing).
+
+``show`` prints every nested type in full, as rosmsg does, so types that hold
+the next type twice ("diamonds": A has two B, B two C, ...) expand
+exponentially.  The size of the text is computed first, memoised per type,
+and a type that would print more than :data:`MAX_SHOW_CHARS` characters is
+refused (exit code 1, the sizes and ``show -r`` named) before any text is
+built; rosmsg prints for hours.
 """
 
 from __future__ import annotations
@@ -29,7 +36,7 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from ddes.errors import InvalidMsgSpec, MsgNotFound, ROSConsoleError
+from ddes.errors import InvalidMsgSpec, MsgNotFound, ResourceLimitError, ROSConsoleError
 from ddes.msg.registry import MessageRegistry
 from ddes.msg.spec import MsgSpec, bare_msg_type, is_builtin
 
@@ -37,8 +44,11 @@ if TYPE_CHECKING:
     from ddes.console.tooling import ToolContext
     from ddes.console.toolkit import ToolParser
 
-__all__ = ["TOOLS", "get_msg_text", "get_srv_text", "main", "register", "rosmsg", "rossrv",
-           "spec_to_str"]
+__all__ = ["MAX_SHOW_CHARS", "TOOLS", "get_msg_text", "get_srv_text", "main", "register",
+           "rosmsg", "rossrv", "show_size", "spec_to_str"]
+
+#: The most text ``rosmsg show`` prints for one type (16 MiB), nested types expanded.
+MAX_SHOW_CHARS = 16 << 20
 
 _EX_USAGE = getattr(os, "EX_USAGE", 64)
 
@@ -50,8 +60,52 @@ class _ToolError(Exception):
     """A failure the tool reports on stderr with exit code 1."""
 
 
+def show_size(registry: MessageRegistry, spec: MsgSpec,
+              memo: dict[str, tuple[int, int]] | None = None) -> tuple[int, int]:
+    """``(lines, characters)`` of ``spec_to_str(registry, spec)``, without building it.
+
+    Memoised per type, so a diamond of 40 types costs 40 steps; a line nested
+    ``k`` levels deep carries ``2 * k`` characters of indent.
+    """
+    memo = {} if memo is None else memo
+    got = memo.get(spec.full_name)
+    if got is not None:
+        return got
+    lines = chars = 0
+    for c in spec.constants:
+        lines += 1
+        chars += len(f"{c.type} {c.name}={c.val_text}\n")
+    for f in spec.fields:
+        lines += 1
+        chars += len(f"{f.type} {f.name}\n")
+        base = bare_msg_type(f.type)
+        if not is_builtin(base):
+            n, k = show_size(registry, registry.get_msg_spec(base), memo)
+            lines += n
+            chars += k + 2 * n
+    memo[spec.full_name] = (lines, chars)
+    return lines, chars
+
+
 def spec_to_str(registry: MessageRegistry, spec: MsgSpec, indent: str = "") -> str:
-    """The text ``rosmsg show`` prints for ``spec`` (nested types expanded)."""
+    """The text ``rosmsg show`` prints for ``spec`` (nested types expanded).
+
+    Raises :class:`~ddes.errors.ResourceLimitError` before building a text
+    longer than :data:`MAX_SHOW_CHARS`.
+    """
+    n, chars = show_size(registry, spec)
+    chars += len(indent) * n
+    if chars > MAX_SHOW_CHARS:
+        raise ResourceLimitError(
+            f"rosmsg show {spec.full_name} would print {n} lines ({chars} characters) once its "
+            f"nested types are expanded, more than ddes.console.rosmsg.MAX_SHOW_CHARS "
+            f"({MAX_SHOW_CHARS}): its types nest each other many times (a type holding the "
+            "next one twice doubles the text at every level); 'show -r' prints the definition "
+            "as written")
+    return _spec_text(registry, spec, indent)
+
+
+def _spec_text(registry: MessageRegistry, spec: MsgSpec, indent: str) -> str:
     lines: list[str] = []
     for c in spec.constants:
         lines.append(f"{indent}{c.type} {c.name}={c.val_text}\n")
@@ -59,7 +113,7 @@ def spec_to_str(registry: MessageRegistry, spec: MsgSpec, indent: str = "") -> s
         lines.append(f"{indent}{f.type} {f.name}\n")
         base = bare_msg_type(f.type)
         if not is_builtin(base):
-            lines.append(spec_to_str(registry, registry.get_msg_spec(base), indent + "  "))
+            lines.append(_spec_text(registry, registry.get_msg_spec(base), indent + "  "))
     return "".join(lines)
 
 
@@ -103,6 +157,8 @@ def _text(registry: MessageRegistry, mode: str, type_name: str, raw: bool) -> st
     except (MsgNotFound, InvalidMsgSpec) as exc:
         what = "Unable to load msg" if mode == "msg" else "Unknown srv type"
         raise _ToolError(f"{what} [{type_name}]: {exc}") from None
+    except ResourceLimitError as exc:
+        raise _ToolError(f"ERROR: {exc}") from None
 
 
 # -- the commands, writing through out/err -------------------------------------------------------

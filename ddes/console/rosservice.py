@@ -38,6 +38,7 @@ import yaml
 
 from ddes.errors import DdesError, ROSMessageException, ROSSerializationException, ServiceException
 from ddes.graph.names import make_global_ns, resolve_name
+from ddes.graph.yamlsafe import load_yaml
 from ddes.msg.convert import default_keys, fill_message_args
 from ddes.time.rostime import Time
 from ddes.time.units import duration_to_ns
@@ -220,11 +221,11 @@ def _yaml_arg(arg: str) -> Any:
     if arg == "":
         arg = "''"
     try:
-        return yaml.safe_load(arg)
+        return load_yaml(arg)  # bounded: no alias bomb, no RecursionError
     except yaml.YAMLError as exc:
         if "\\n" in arg:
             try:
-                return yaml.safe_load(arg.replace("\\n", "\n"))
+                return load_yaml(arg.replace("\\n", "\n"))
             except yaml.YAMLError:
                 pass
         raise _ServiceError(f"Invalid YAML in argument [{arg}]: {exc}") from None

@@ -37,6 +37,7 @@ from ddes.errors import (
     ROSTopicException,
     UnsafeExpressionError,
 )
+from ddes.graph.yamlsafe import load_yaml
 from ddes.time.rostime import Duration, Time
 from ddes.time.units import duration_to_ns
 
@@ -559,7 +560,7 @@ def pub(ctx: ToolContext, argv: list[str]) -> int:
     pub_args: list[Any] = []
     for arg in args[2:]:
         try:
-            pub_args.append(yaml.safe_load(arg))
+            pub_args.append(load_yaml(arg))  # bounded: no alias bomb, no RecursionError
         except yaml.YAMLError as exc:
             parser.error(f"Argument error: {exc}")
     count = parse_count(options.count)

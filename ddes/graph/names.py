@@ -34,7 +34,8 @@ from typing import Any
 
 import yaml
 
-from ddes.errors import DdesTypeError, ROSInitException, ROSNameException
+from ddes.errors import DdesTypeError, ResourceLimitError, ROSInitException, ROSNameException
+from ddes.graph.yamlsafe import load_yaml
 
 __all__ = [
     "ANYTYPE",
@@ -287,7 +288,9 @@ def load_command_line_node_params(argv: Sequence[str]) -> dict[str, Any]:
             src, dst = _split_remap(arg)
             if src and dst and _is_param_assignment(src):
                 try:
-                    params[src[1:]] = yaml.safe_load(dst)
+                    params[src[1:]] = load_yaml(dst)  # bounded (ddes.graph.yamlsafe)
+                except ResourceLimitError as exc:
+                    raise ResourceLimitError(f"command-line parameter {src}: {exc}") from None
                 except yaml.YAMLError as exc:
                     raise ROSInitException(
                         f"invalid command-line parameters: {arg!r} is not valid YAML ({exc}); "

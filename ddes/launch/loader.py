@@ -31,7 +31,14 @@ from ddes.graph.yamlsafe import read_bounded
 from ddes.launch.params import ParamLoader
 from ddes.launch.plan import LaunchPlan, NodeSpec
 from ddes.launch.scope import Scope
-from ddes.launch.substitution import PackageFinder, SubstitutionContext, resolve_args
+from ddes.launch.substitution import (
+    CostlyLaunchExpression,
+    LaunchLimitError,
+    PackageFinder,
+    SubstitutionContext,
+    UnsafeLaunchExpression,
+    resolve_args,
+)
 from ddes.launch.values import ParamValue, convert_value, parse_bool_attr, parse_float_attr
 from ddes.launch.xmltree import Element, parse_xml
 from ddes.rospack import RosPack
@@ -114,7 +121,7 @@ class _Loader:
                 raise
             where = f"{scope.filename or '<string>'}:{el.line}"
             chain = "".join(f"\n  included from {c}" for c in reversed(scope.chain))
-            err = ROSLaunchException(f"{where}: {el.start_tag()}: {exc}{chain}")
+            err = _located_kind(exc)(f"{where}: {el.start_tag()}: {exc}{chain}")
             self._located = err
             raise err from None
 
@@ -563,7 +570,7 @@ class _Loader:
             child.arg_names = []
             child.include_args = None
             child.subst = SubstitutionContext(self.rospack, self.environ, self.anon, inc,
-                                              dict(passed))
+                                              dict(passed), expansion=scope.subst.expansion)
             child.chain = scope.chain + (f"{scope.filename or '<string>'}:{el.line}",)
             if len(child.chain) > MAX_INCLUDE_DEPTH:
                 raise ROSLaunchException(
@@ -582,6 +589,17 @@ class _Loader:
                         f"unused args [{', '.join(unused)}] for include of [{inc}]; the "
                         "included file declares no such <arg> (check the spelling)"
                     )
+
+
+def _located_kind(exc: BaseException) -> type[ROSLaunchException]:
+    """The class of the located error for ``exc``: a refusal or a limit keeps its kind."""
+    if isinstance(exc, UnsafeLaunchExpression):
+        return UnsafeLaunchExpression
+    if isinstance(exc, CostlyLaunchExpression):
+        return CostlyLaunchExpression
+    if isinstance(exc, ResourceLimitError):
+        return LaunchLimitError
+    return ROSLaunchException
 
 
 def _collapse(ns: str) -> str:

@@ -34,6 +34,14 @@ Deviations, on purpose (see docs/launch.md):
   ``ResourceLimitError``).
 * ``$(find pkg)/path`` joins ``path`` to the package folder from the ddes
   :class:`~ddes.rospack.RosPack`; catkin's devel/install spaces do not exist.
+* Sizes are bounded before a value is built: a substituted value may hold at
+  most :data:`MAX_VALUE_CHARS` characters (or as many as the text it was
+  written as, if more), and the substitutions of one load, its includes
+  too, may add at most :data:`MAX_EXPANSION_CHARS` characters in all; past
+  either a :class:`LaunchLimitError` (a ``ROSLaunchException`` and a
+  ``ResourceLimitError``).  The ``$(eval)``s of one load may touch
+  :data:`MAX_EVAL_WORK` items together (each at most ``ddes.expr.MAX_WORK``).  Args defined as ``$(arg a)$(arg a)`` double at
+  every step: 40 of them would make a terabyte, and roslaunch hangs on them.
 """
 
 from __future__ import annotations
@@ -41,6 +49,7 @@ from __future__ import annotations
 import math
 import os
 import random
+import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -52,10 +61,34 @@ from ddes.graph.names import anonymous_name
 from ddes.launch.values import convert_value
 from ddes.rospack import PackageNotFound
 
-__all__ = ["COMMANDS", "PackageFinder", "SubstitutionContext", "resolve_args"]
+__all__ = ["COMMANDS", "MAX_EVAL_WORK", "MAX_EXPANSION_CHARS", "MAX_VALUE_CHARS", "ExpansionBudget",
+           "LaunchLimitError", "PackageFinder", "SubstitutionContext", "resolve_args"]
 
 #: The substitution commands, in the order roslaunch lists them in its error message.
 COMMANDS = ("find", "env", "optenv", "dirname", "anon", "arg")
+
+#: The longest value substitutions may make, in characters (1 MiB), unless the text it was
+#: written as is longer (a ``<rosparam subst_value="true">`` body of a large file).
+MAX_VALUE_CHARS = 1 << 20
+#: The characters the substitutions of one load (the file and every file it includes) may add
+#: in all (16 MiB): a value's length beyond the text it was written as, summed.
+MAX_EXPANSION_CHARS = 16 << 20
+#: The items all ``$(eval)``s of one load may touch together (each at most
+#: ``ddes.expr.MAX_WORK``): a file of thousands of costly expressions ends, not only each one.
+MAX_EVAL_WORK = 4 * safe_expr.MAX_WORK
+
+
+class LaunchLimitError(ROSLaunchException, ResourceLimitError):
+    """A launch file past one of ddes's size limits (both error kinds at once)."""
+
+
+@dataclass
+class ExpansionBudget:
+    """What substitutions have cost so far in one load (shared by every scope): characters
+    added, and items touched by ``$(eval)``."""
+
+    added: int = 0
+    eval_work: int = 0
 
 
 class PackageFinder(Protocol):
@@ -80,11 +113,12 @@ class SubstitutionContext:
     filename: str | None = None
     args: dict[str, str] = field(default_factory=dict)
     anon: dict[str, str] = field(default_factory=dict)
+    expansion: ExpansionBudget = field(default_factory=ExpansionBudget)
 
     def child(self) -> SubstitutionContext:
         """A copy for a nested scope (args and anon names copied, the rest shared)."""
         return SubstitutionContext(self.rospack, self.environ, self.anon_source, self.filename,
-                                   dict(self.args), dict(self.anon))
+                                   dict(self.args), dict(self.anon), self.expansion)
 
     # -- the values behind each command ------------------------------------------------
 
@@ -137,16 +171,50 @@ class SubstitutionContext:
 
 
 def resolve_args(text: str, ctx: SubstitutionContext) -> str:
-    """Resolve every substitution in ``text`` (roslaunch ``resolve_args``)."""
+    """Resolve every substitution in ``text`` (roslaunch ``resolve_args``).
+
+    Sizes are checked before each value is built (see :data:`MAX_VALUE_CHARS`
+    and :data:`MAX_EXPANSION_CHARS`); past them :class:`LaunchLimitError`.
+    """
     if not text or "$" not in text:
         return text
+    size = _Size(text, ctx)
     if text.startswith("$(eval ") and text.endswith(")"):
-        return _eval(text[7:-1], ctx)
-    resolved = _resolve_pass(text, ctx, ("env", "optenv", "dirname", "anon", "arg"))
-    return _resolve_pass(resolved, ctx, ("find",))
+        resolved = _eval(text[7:-1], ctx, size)
+    else:
+        resolved = _resolve_pass(text, ctx, ("env", "optenv", "dirname", "anon", "arg"), size)
+        if "$(" in resolved:  # a value may hold a $(find); without one the pass finds nothing
+            resolved = _resolve_pass(resolved, ctx, ("find",), size)
+    ctx.expansion.added += max(len(resolved) - len(text), 0)
+    return resolved
 
 
-def _resolve_pass(text: str, ctx: SubstitutionContext, active: tuple[str, ...]) -> str:
+class _Size:
+    """The size checks of one :func:`resolve_args`: each new value, before it is built."""
+
+    def __init__(self, text: str, ctx: SubstitutionContext) -> None:
+        self.text_len = len(text)
+        self.limit = max(MAX_VALUE_CHARS, self.text_len)
+        self.ctx = ctx
+
+    def check(self, new_len: int, what: str) -> None:
+        if new_len > self.limit:
+            raise LaunchLimitError(
+                f"{what} would make a value of {new_len} characters, more than the "
+                f"{self.limit} a substitution may make (ddes.launch.substitution."
+                "MAX_VALUE_CHARS, or the length of the text written); args that repeat each "
+                "other ($(arg a)$(arg a)) double at every step: write the value out instead")
+        total = self.ctx.expansion.added + max(new_len - self.text_len, 0)
+        if total > MAX_EXPANSION_CHARS:
+            raise LaunchLimitError(
+                f"{what} would take the characters substitutions add in this launch (its "
+                f"includes too) to {total}, more than the {MAX_EXPANSION_CHARS} ddes allows in "
+                "all (ddes.launch.substitution.MAX_EXPANSION_CHARS); args expanding each other "
+                "or a large value repeated many times: write the values out instead")
+
+
+def _resolve_pass(text: str, ctx: SubstitutionContext, active: tuple[str, ...],
+                  size: _Size) -> str:
     resolved = text
     for sub in _collect(text):
         words = [w for w in sub.split(" ") if w]
@@ -159,17 +227,28 @@ def _resolve_pass(text: str, ctx: SubstitutionContext, active: tuple[str, ...]) 
             )
         command, params = words[0], words[1:]
         if command in active:
-            resolved = _APPLY[command](resolved, sub, params, ctx)
+            resolved = _APPLY[command](resolved, sub, params, ctx, size)
     return resolved
 
 
 def _collect(text: str) -> list[str]:
-    """The bodies of the ``$(...)`` in ``text``, in order (roslaunch ``_collect_args``)."""
+    """The bodies of the ``$(...)`` in ``text``, in order (roslaunch ``_collect_args``).
+
+    roslaunch's character state machine, stepping from one ``$``, ``(`` or ``)`` to the next
+    (a run of other characters only moves ``$`` and ``$(`` on), so a long value costs one scan.
+    """
     out, dollar, lparen, inside = 0, 1, 2, 3
     state = out
     found: list[str] = []
-    buf: list[str] = []
-    for c in text:
+    start = prev = 0
+    for m in _SPECIAL.finditer(text):
+        i = m.start()
+        if i > prev:  # ordinary characters text[prev:i]
+            if state == dollar:
+                state = out
+            elif state == lparen:
+                state, start = inside, prev
+        c = text[i]
         if c == "$":
             if state in (lparen, inside):
                 raise ROSLaunchException(
@@ -185,24 +264,27 @@ def _collect(text: str) -> list[str]:
                 raise ROSLaunchException(
                     f"Invalid left parenthesis '(' in substitution args [{text}]"
                 )
-        elif c == ")":
+        else:  # ")"
             if state == inside:
-                found.append("".join(buf))
-                buf.clear()
+                found.append(text[start:i])
             state = out
-        elif state == dollar:
-            state = out
-        elif state == lparen:
-            state = inside
-        if state == inside:
-            buf.append(c)
+        prev = i + 1
     return found
 
 
-def _simple(value: Callable[[list[str], SubstitutionContext, str], str]) -> Callable[
-        [str, str, list[str], SubstitutionContext], str]:
-    def apply(resolved: str, sub: str, params: list[str], ctx: SubstitutionContext) -> str:
-        return resolved.replace(f"$({sub})", value(params, ctx, sub))
+_SPECIAL = re.compile(r"[$()]")
+
+
+_Apply = Callable[[str, str, list[str], SubstitutionContext, _Size], str]
+
+
+def _simple(value: Callable[[list[str], SubstitutionContext, str], str]) -> _Apply:
+    def apply(resolved: str, sub: str, params: list[str], ctx: SubstitutionContext,
+              size: _Size) -> str:
+        token = f"$({sub})"
+        new = value(params, ctx, sub)
+        size.check(len(resolved) + resolved.count(token) * (len(new) - len(token)), token)
+        return resolved.replace(token, new)
     return apply
 
 
@@ -238,7 +320,8 @@ def _dirname_value(params: list[str], ctx: SubstitutionContext, sub: str) -> str
     return ctx.dirname()
 
 
-def _apply_find(resolved: str, sub: str, params: list[str], ctx: SubstitutionContext) -> str:
+def _apply_find(resolved: str, sub: str, params: list[str], ctx: SubstitutionContext,
+                size: _Size) -> str:
     # roslaunch joins the path that follows $(find pkg) (up to the next space) to the
     # package folder with os.path.join, after dropping one leading separator.
     if len(params) != 1:
@@ -254,10 +337,11 @@ def _apply_find(resolved: str, sub: str, params: list[str], ctx: SubstitutionCon
     pkg_path = ctx.find(params[0])
     if path:
         pkg_path = os.path.join(pkg_path, path)
+    size.check(len(before) + len(pkg_path) + len(rest), token)
     return before + pkg_path + rest
 
 
-_APPLY: dict[str, Callable[[str, str, list[str], SubstitutionContext], str]] = {
+_APPLY: dict[str, _Apply] = {
     "env": _simple(_env_value),
     "optenv": _simple(_optenv_value),
     "anon": _simple(_anon_value),
@@ -310,7 +394,7 @@ class _EvalNames(Mapping[str, object]):
         return len(self._functions)
 
 
-def _eval(expr: str, ctx: SubstitutionContext) -> str:
+def _eval(expr: str, ctx: SubstitutionContext, size: _Size) -> str:
     if "__" in expr:
         raise UnsafeLaunchExpression(
             f"$(eval {expr}): $(eval ...) may not contain double underscore expressions")
@@ -318,7 +402,20 @@ def _eval(expr: str, ctx: SubstitutionContext) -> str:
     try:
         parsed = safe_expr.parse(expr, functions=[f for f in names._functions.values() if callable(f)],
                                  builtins=_EVAL_BUILTINS)
-        return safe_expr.to_text(parsed.evaluate(names))
+        left = MAX_EVAL_WORK - ctx.expansion.eval_work
+        try:
+            value, work = parsed.evaluate_counted(names, budget=max(left, 0))
+        except ResourceLimitError as exc:
+            if left < safe_expr.MAX_WORK and "items touched" in str(exc):
+                raise ResourceLimitError(
+                    f"{exc} (the $(eval)s of one launch, its includes too, may touch "
+                    f"{MAX_EVAL_WORK} items in all, ddes.launch.substitution.MAX_EVAL_WORK; "
+                    f"{ctx.expansion.eval_work} are spent)") from None
+            raise
+        ctx.expansion.eval_work += work
+        text = safe_expr.to_text(value, size.limit)
+        size.check(len(text), "$(eval ...)")
+        return text
     except ROSLaunchException:
         raise
     except DdesError as exc:  # any error of the user's expression, or a refusal

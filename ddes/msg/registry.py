@@ -33,14 +33,27 @@ from __future__ import annotations
 import enum
 import functools
 import os
+import stat
 import threading
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any, cast
 
-from ddes.errors import DdesTypeError, DdesValueError, InvalidMsgSpec, MsgNotFound
+from ddes.errors import (
+    DdesTypeError,
+    DdesValueError,
+    InvalidMsgSpec,
+    MsgNotFound,
+    ResourceLimitError,
+)
 from ddes.msg.codegen import generate_message_class
-from ddes.msg.gentools import SEPARATOR, compute_full_text, compute_md5, compute_srv_md5
+from ddes.msg.gentools import (
+    SEPARATOR,
+    all_dependencies,
+    compute_full_text,
+    compute_md5,
+    compute_srv_md5,
+)
 from ddes.msg.message import Message, ServiceDefinition
 from ddes.msg.parser import ACTION_SUFFIXES, parse_action, parse_msg, parse_srv
 from ddes.msg.spec import (
@@ -57,9 +70,11 @@ from ddes.rospack import PackageNotFound, RosPack, env_package_path
 from ddes.time.rostime import Duration, Time
 
 __all__ = [
+    "MAX_DEFINITION_BYTES",
     "MAX_NESTING_DEPTH",
     "MessageRegistry",
     "default_registry",
+    "definition_facts",
     "get_message_class",
     "get_service_class",
     "message_class_from_definition",
@@ -73,13 +88,34 @@ _KIND_EXT = {"msg": ".msg", "srv": ".srv", "action": ".action"}
 MAX_NESTING_DEPTH = 64
 
 
+#: The largest .msg/.srv/.action file ddes reads (1 MiB; real ones hold a few KiB).
+MAX_DEFINITION_BYTES = 1 << 20
+
+
 def read_definition(path: Path) -> str:
     """The text of a .msg/.srv/.action file; bytes that are not UTF-8 raise InvalidMsgSpec.
 
     genmsg opens the file in the locale's encoding (UTF-8 on ROS systems) and
     lets a ``UnicodeDecodeError`` escape; ddes names the file, line and byte.
+    Only a regular file of at most :data:`MAX_DEFINITION_BYTES` is read
+    (checked on ``stat`` and while reading); past it
+    :class:`~ddes.errors.ResourceLimitError`.
     """
-    data = path.read_bytes()
+    try:
+        st = path.stat()
+    except OSError as exc:
+        raise InvalidMsgSpec(f"{path}: cannot read the definition ({exc.strerror or exc})"
+                             ) from None
+    if not stat.S_ISREG(st.st_mode):
+        raise InvalidMsgSpec(f"{path}: not a regular file; a definition is a text file")
+    too_big = (f"{path}: the definition is larger than {MAX_DEFINITION_BYTES} bytes, the most "
+               "ddes reads of a .msg/.srv/.action file (ddes.msg.registry.MAX_DEFINITION_BYTES)")
+    if st.st_size > MAX_DEFINITION_BYTES:
+        raise ResourceLimitError(f"{too_big} (it is {st.st_size} bytes)")
+    with open(path, "rb") as f:
+        data = f.read(MAX_DEFINITION_BYTES + 1)
+    if len(data) > MAX_DEFINITION_BYTES:
+        raise ResourceLimitError(too_big)
     return decode_definition(data, str(path))
 
 
@@ -618,15 +654,58 @@ def parse_definition(type_name: str, full_text: str | bytes) -> list[MsgSpec]:
     return specs
 
 
-@functools.lru_cache(maxsize=256)
-def _definition_class(type_name: str, full_text: str | bytes) -> type[Message]:
+def _text_registry(type_name: str, full_text: str | bytes) -> MessageRegistry:
     # A private registry with no package path and no parent: every spec comes
-    # from the text, so the class depends on (type_name, full_text) only and
+    # from the text, so what it gives depends on (type_name, full_text) only and
     # may be shared by every registry (see the module docstring).
     registry = MessageRegistry(rospack=RosPack((), bundled=False), parent=None)
     for spec in parse_definition(type_name, full_text):
         registry.add_msg_spec(spec)
-    return registry.get_message_class(type_name)
+    return registry
+
+
+@functools.lru_cache(maxsize=256)
+def _definition_class(type_name: str, full_text: str | bytes) -> type[Message]:
+    return _text_registry(type_name, full_text).get_message_class(type_name)
+
+
+@functools.lru_cache(maxsize=256)
+def _definition_facts(type_name: str, full_text: str | bytes) -> tuple[str, int]:
+    registry = _text_registry(type_name, full_text)
+    md5 = registry.md5sum(type_name)  # checks the closure: no unknown or circular type
+    flat: dict[str, int] = {}
+
+    def fields(name: str) -> int:  # fields once nested types are inlined (codegen's count)
+        spec = registry.get_msg_spec(name)
+        if spec.full_name not in flat:
+            flat[spec.full_name] = sum(
+                1 if is_builtin(bare_msg_type(f.type)) else fields(bare_msg_type(f.type))
+                for f in spec.fields)
+        return flat[spec.full_name]
+
+    root = registry.get_msg_spec(type_name)
+    names = [root.full_name, *all_dependencies(root, registry.get_msg_spec)]
+    return md5, sum(fields(n) for n in names)
+
+
+def definition_facts(type_name: str, full_text: str | bytes) -> tuple[str, int]:
+    """``(md5sum, cost)`` of ``type_name`` as its ``message_definition`` defines it.
+
+    Nothing is generated: the md5 is genmsg's (the class's ``_md5sum``) and
+    ``cost`` the fields code generation would write for the classes of the
+    type and its dependencies, nested types inlined as codegen inlines them
+    (memoised per type, so a definition whose types each hold the next one
+    twice costs one step per type to size).  Reading a bag's connections
+    (``rosbag info`` of an MCAP file) needs only the md5; a reader that will
+    build the classes can bound their cost first.  Raises
+    :class:`~ddes.errors.InvalidMsgSpec` as :func:`message_class_from_definition`
+    does for a definition that does not parse or names unknown types.
+    """
+    if isinstance(full_text, (bytearray, memoryview)):
+        full_text = bytes(full_text)
+    if not isinstance(type_name, str) or not isinstance(full_text, (str, bytes)):
+        parse_definition(type_name, full_text)  # raises InvalidMsgSpec naming the bad value
+    return _definition_facts(type_name, full_text)
 
 
 def message_class_from_definition(type_name: str, full_text: str | bytes, *,

@@ -57,6 +57,7 @@ from ddes.errors import (
     DdesValueError,
     InvalidMsgSpec,
     MsgNotFound,
+    ResourceLimitError,
     ROSBagException,
     ROSBagFormatException,
 )
@@ -98,6 +99,7 @@ __all__ = [
     "Compression",
     "CompressionTuple",
     "ConnectionFilter",
+    "MAX_REBUILT_FIELDS",
     "RawMessage",
     "TopicTuple",
     "TypesAndTopicsTuple",
@@ -108,6 +110,13 @@ __all__ = [
 _time_key = itemgetter(0)
 _NS = 1_000_000_000
 _TIME_LIMIT = to_ns(2**32)  # a bag stores u32 seconds
+
+#: The fields (nested types inlined, as code generation writes them) that the classes one Bag
+#: rebuilds from its connections' ``message_definition`` may hold in all.  Generating a class
+#: costs about 65 us a field: a hostile file of thousands of definitions, each just under the
+#: codegen limit of ddes.msg.codegen.MAX_FLAT_FIELDS, would take hours; real bags need a few
+#: thousand (the largest bundled type has 76).
+MAX_REBUILT_FIELDS = 50_000
 
 
 class Compression:
@@ -279,7 +288,7 @@ class Bag:
         package path); types it lacks are rebuilt from ``message_definition``.
     max_chunk_size:
         Reading a hostile file: by default a compressed chunk may declare at
-        most 1 GiB uncompressed and all of a file's compressed chunks together
+        most 256 MiB uncompressed and all of a file's compressed chunks together
         at most 1000x the file's size (at least 64 MiB); past that ddes raises
         ResourceLimitError before decompressing.  An int trusts each chunk up
         to that many bytes instead (for genuine, very compressible bags).
@@ -326,6 +335,8 @@ class Bag:
         self._header_connections: dict[tuple[str, str], list[tuple[dict[str, str], int]]] = {}
         self._next_id = 0
         self._classes: dict[int, type[Message]] = {}
+        self._rebuilt: dict[tuple[str, str], int] = {}  # definitions costed: their fields
+        self._rebuilt_total = 0
         self._loaded: FileStats | None = None
         self._encoded: tuple[bytes, FileStats] | None = None
         self._closed = False
@@ -718,6 +729,7 @@ class Bag:
             definition = "".join("\ufffd" if "\ud800" <= c <= "\udfff" else c
                                  for c in conn.msg_def) if not conn.msg_def.isascii() \
                 else conn.msg_def
+            self._charge_rebuild(conn, definition, where)
             try:
                 cls = message_class_from_definition(conn.datatype, definition, registry=registry)
             except DdesError as exc:
@@ -732,6 +744,29 @@ class Bag:
                     "message_definition and the type is not on the package path") from None
         self._classes[conn.id] = cls
         return cls
+
+    def _charge_rebuild(self, conn: ConnectionInfo, definition: str, where: str) -> None:
+        """Refuse a definition whose classes would take the Bag past MAX_REBUILT_FIELDS."""
+        from ddes.msg.registry import definition_facts
+
+        key = (conn.datatype, definition)
+        if key in self._rebuilt:
+            return
+        try:
+            cost = definition_facts(conn.datatype, definition)[1]
+        except DdesError as exc:
+            raise ROSBagFormatException(f"{where}: cannot rebuild [{conn.datatype}] from its "
+                                        f"message_definition: {shown(str(exc))}") from None
+        total = self._rebuilt_total + cost
+        if total > MAX_REBUILT_FIELDS:
+            raise ResourceLimitError(shown(
+                f"{where}: rebuilding [{conn.datatype}] from its message_definition takes "
+                f"{cost} fields (nested types inlined), {total} with the classes this bag "
+                f"rebuilt before, more than ddes.rosbag.bag.MAX_REBUILT_FIELDS "
+                f"({MAX_REBUILT_FIELDS}): definitions whose types hold each other many times "
+                "(a hostile or corrupt bag); raise the limit if the bag is genuine"))
+        self._rebuilt[key] = cost
+        self._rebuilt_total = total
 
     def _deserialize(self, conn: ConnectionInfo, t: int, data: bytes) -> Message:
         cls = self.message_class(conn)

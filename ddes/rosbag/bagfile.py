@@ -26,6 +26,7 @@ from __future__ import annotations
 import bisect
 import bz2
 import os
+import stat
 import struct
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
@@ -63,7 +64,8 @@ from ddes.rosbag.records import (
     pack_time,
 )
 
-__all__ = ["COMPRESSIONS", "INFLATE_FLOOR", "INFLATE_RATIO", "MAX_CHUNK_SIZE", "ChunkStat",
+__all__ = ["COMPRESSIONS", "INFLATE_FLOOR", "INFLATE_RATIO", "MAX_CHUNK_SIZE", "MAX_FILE_SIZE",
+           "ChunkStat",
            "Decoded", "Entry", "FileStats", "InflateBudget", "StreamWriter", "active_placeholder",
            "decode", "encode", "inflate", "read_file"]
 
@@ -276,9 +278,10 @@ def encode(connections: Mapping[int, ConnectionInfo], log: Iterable[Entry], out:
 
 # -- reading ---------------------------------------------------------------------------------
 
-#: The most uncompressed bytes one chunk may declare (1 GiB), unless ``Bag(max_chunk_size=N)``
-#: says otherwise.
-MAX_CHUNK_SIZE = 1 << 30
+#: The most uncompressed bytes one chunk may declare (256 MiB), unless ``Bag(max_chunk_size=N)``
+#: says otherwise.  rosbag closes a chunk past 768 KiB, so only a single message larger than
+#: that makes a larger chunk; a chunk costs about twice its size in memory while it is read.
+MAX_CHUNK_SIZE = 256 << 20
 #: Without ``max_chunk_size``, the compressed chunks of a file together may inflate to at most
 #: ``INFLATE_RATIO`` times the file's size, and never less than ``INFLATE_FLOOR`` bytes allowed.
 INFLATE_RATIO = 1000
@@ -658,17 +661,47 @@ def _recover(cur: Cursor, pos: int, name: str, why: str, budget: InflateBudget) 
     return _finish(connections, log, indexes, FileStats(cur.size, stats), note)
 
 
-def read_file(path: str | os.PathLike[str]) -> bytes:
-    """The bytes of the bag file at ``path``, or ROSBagException naming it."""
+#: The largest bag file ddes reads (8 GiB): a bag is read into memory whole.
+MAX_FILE_SIZE = 8 << 30
+
+
+def read_file(path: str | os.PathLike[str], limit: int | None = None) -> bytes:
+    """The bytes of the bag file at ``path``, or ROSBagException naming it.
+
+    Only a regular file is opened: a directory, a FIFO, a device (``/dev/zero``)
+    or a socket is refused first (``rosbag info /dev/zero`` read until memory ran
+    out), and a file larger than ``limit`` (default :data:`MAX_FILE_SIZE`) raises
+    :class:`~ddes.errors.ResourceLimitError`, checked on ``stat`` and while reading.
+    """
+    limit = MAX_FILE_SIZE if limit is None else limit
     try:
-        with open(path, "rb") as f:
-            return f.read()
+        st = os.stat(path)
     except FileNotFoundError:
         raise ROSBagException(f"{path}: no such bag file") from None
+    except (OSError, ValueError) as exc:
+        raise ROSBagException(f"{path}: cannot read the bag file "
+                              f"({getattr(exc, 'strerror', None) or exc})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ROSBagException(f"{path}: is a directory, not a bag file")
+    if not stat.S_ISREG(st.st_mode):
+        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else
+                "a device" if stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode) else
+                "a socket" if stat.S_ISSOCK(st.st_mode) else "not a regular file")
+        raise ROSBagException(f"{path}: is {kind}, not a bag file; give the path of a bag file")
+    too_big = (f"{path}: the bag file is larger than {limit} bytes ({_mib(limit)}), the most "
+               "ddes reads (ddes.rosbag.bagfile.MAX_FILE_SIZE); split it with rosbag filter")
+    if st.st_size > limit:
+        raise ResourceLimitError(f"{too_big} (it is {st.st_size} bytes)")
+    try:
+        with open(path, "rb") as f:
+            data = f.read(limit + 1)
     except IsADirectoryError:
         raise ROSBagException(f"{path}: is a directory, not a bag file") from None
     except OSError as exc:
         raise ROSBagException(f"{path}: cannot read the bag file ({exc.strerror})") from None
+    if len(data) > limit:
+        raise ResourceLimitError(too_big)
+    return data
 
 
 # -- writing as you go (rosbag record) ---------------------------------------------------------

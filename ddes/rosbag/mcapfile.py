@@ -95,10 +95,10 @@ def _header(channel: Channel, schema: Schema, definition: str) -> dict[str, str]
         header = {k: (_LATCH_IN.get(v, v) if k == "latching" else v) for k, v in meta.items()}
         header["message_definition"] = definition
         return header
-    from ddes.msg import message_class_from_definition
+    from ddes.msg.registry import definition_facts
 
-    try:
-        md5 = message_class_from_definition(schema.name, definition)._md5sum
+    try:  # the md5 alone: no class is generated to read a file (rosbag info)
+        md5 = definition_facts(schema.name, definition)[0]
     except DdesError as exc:
         raise ROSBagFormatException(
             f"channel {channel.id} ({channel.topic}): cannot compute the md5sum of "

@@ -12,6 +12,11 @@ read; anything outside the subset is also an
 :class:`~ddes.errors.UnsafeExpressionError` (:class:`UnsafeBagExpression`),
 anything too costly a :class:`~ddes.errors.ResourceLimitError`
 (:class:`CostlyBagExpression`); a failure on a message names the message.
+Each evaluation on a message may touch at most :data:`FILTER_WORK_PER_MESSAGE`
+items plus :data:`FILTER_WORK_PER_BYTE` per byte of the serialized message
+(never more than :data:`ddes.expr.MAX_WORK`), so a filter's cost is bounded
+by the bag's size: past it, :class:`CostlyBagExpression` naming the
+expression and the message.
 
 ``change_compression`` and ``reindex_file`` are ``rosbag compress``,
 ``decompress`` and ``reindex`` on one file with rosbag's backup rule: the
@@ -35,11 +40,19 @@ from ddes.time.rostime import Duration, Time
 if TYPE_CHECKING:
     from ddes.msg.message import Message
 
-__all__ = ["BagExpression", "CostlyBagExpression", "UnsafeBagExpression", "backup_name", "change_compression", "compile_expression",
-           "filter_bag", "reindex_file"]
+__all__ = ["FILTER_WORK_PER_BYTE", "FILTER_WORK_PER_MESSAGE", "BagExpression",
+           "CostlyBagExpression", "UnsafeBagExpression", "backup_name", "change_compression",
+           "compile_expression", "filter_bag", "filter_budget", "reindex_file"]
 
-#: A compiled ``rosbag filter`` expression: ``(topic, m, t) -> value`` (truth tested or printed).
-BagExpression = Callable[[str, "Message", Time], object]
+#: Items one evaluation of a filter (or print) expression may touch on any message ...
+FILTER_WORK_PER_MESSAGE = 10_000
+#: ... plus this many per byte of the message's serialized data (``len(m.data)`` on a 1 MB
+#: image touches a million items); never more than ``ddes.expr.MAX_WORK``.
+FILTER_WORK_PER_BYTE = 16
+
+#: A compiled ``rosbag filter`` expression: ``(topic, m, t) -> value`` (truth tested or printed);
+#: a fourth argument, ``budget``, bounds the work of that evaluation (see :func:`filter_budget`).
+BagExpression = Callable[..., object]
 
 #: Methods an expression may call on a Time or Duration (``t.to_sec()``); class methods.
 _TIME_METHODS = frozenset({"to_sec", "to_nsec", "is_zero"})
@@ -74,20 +87,31 @@ def compile_expression(expr: str, what: str = "filter expression") -> BagExpress
     except DdesError as exc:
         raise _bag_error(exc, f"{what} {expr!r}: {exc}") from None
 
-    def fn(topic: str, m: Message, t: Time) -> object:
+    def fn(topic: str, m: Message, t: Time, budget: int | None = None) -> object:
         return parsed.evaluate({"topic": topic, "m": m, "t": t, "math": math, "Time": Time,
-                                "Duration": Duration})
+                                "Duration": Duration}, budget=budget)
 
     return fn
 
 
+def filter_budget(size: int) -> int:
+    """Items an expression may touch on a message of ``size`` serialized bytes."""
+    return min(FILTER_WORK_PER_MESSAGE + FILTER_WORK_PER_BYTE * size, safe_expr.MAX_WORK)
+
+
 def _call(fn: BagExpression, expr: str, what: str, index: int, topic: str, msg: Message,
-          t: Time) -> object:
+          t: Time, size: int) -> object:
+    budget = filter_budget(size)
     try:
-        return fn(topic, msg, t)
+        return fn(topic, msg, t, budget)
     except DdesError as exc:
+        why = ""
+        if isinstance(exc, ResourceLimitError) and "items touched" in str(exc):
+            why = (f" (on a message of {size} bytes an expression may touch {budget} items: "
+                   f"ddes.rosbag.ops.FILTER_WORK_PER_MESSAGE + FILTER_WORK_PER_BYTE per byte, "
+                   f"at most ddes.expr.MAX_WORK; write a cheaper expression)")
         raise _bag_error(exc, f"{what} {expr!r} failed on message {index} ({topic} at "
-                              f"{t.to_sec():.9f}): {exc}") from None
+                              f"{t.to_sec():.9f}): {exc}{why}") from None
 
 
 def filter_bag(inbag: Bag, outbag: Bag, expr: str, *, print_expr: str | None = None,
@@ -105,9 +129,10 @@ def filter_bag(inbag: Bag, outbag: Bag, expr: str, *, print_expr: str | None = N
         conn = conns[cid]
         msg = inbag._deserialize(conn, t_ns, data)
         t = Time._from_ns(t_ns)
-        ok = _call(keep, expr, "filter expression", index, conn.topic, msg, t)
+        ok = _call(keep, expr, "filter expression", index, conn.topic, msg, t, len(data))
         if show is not None and out is not None:
-            value = _call(show, print_expr or "", "print expression", index, conn.topic, msg, t)
+            value = _call(show, print_expr or "", "print expression", index, conn.topic, msg, t,
+                          len(data))
             try:
                 text = safe_expr.to_text(value)
             except DdesError as exc:

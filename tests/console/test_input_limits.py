@@ -111,3 +111,16 @@ def test_a_closed_pipe_ends_quietly_with_141(tmp_path: Path, args: tuple[str, ..
     proc.stderr.close()
     assert code == 141, err
     assert err == b""
+
+
+def test_yaml_arguments_of_rostopic_pub_are_bounded() -> None:
+    """rostopic pub's YAML arguments go through the bounded loader (issue 38): nesting 5000
+    deep was a RecursionError in PyYAML, an alias bomb a value of 387 million parts."""
+    console = Console()
+    result = console.execute("rostopic pub -1 /x std_msgs/String '" + "[" * 5000 + "]" * 5000 + "'")
+    assert result.code == 1 and "YAML nested more than 64 deep" in result.err
+    bomb = "[" + ",".join(["&a0 [x,x,x,x,x,x,x,x,x]"] + [
+        f"&a{i} [" + ",".join([f"*a{i - 1}"] * 9) + "]" for i in range(1, 9)]) + "]"
+    result = console.execute(f'rostopic pub -1 /x std_msgs/String "{bomb}"')
+    assert result.code == 1 and "an alias bomb?" in result.err
+    assert console.execute("rostopic pub -1 /x std_msgs/String hello").code == 0

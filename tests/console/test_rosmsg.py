@@ -124,3 +124,58 @@ def test_usage_without_command(capsys: pytest.CaptureFixture[str]) -> None:
     assert code == 0
     assert out.startswith("rossrv is a command-line tool for displaying information about ROS "
                           "Service types.")
+
+
+def _diamond(root: Path, depth: int) -> None:
+    """``diamond/T0`` .. ``T{depth}``: each type holds the next one twice (``T{depth}`` an int)."""
+    (root / "diamond" / "msg").mkdir(parents=True)
+    for i in range(depth):
+        (root / "diamond" / "msg" / f"T{i}.msg").write_text(f"T{i + 1} a\nT{i + 1} b\n")
+    (root / "diamond" / "msg" / f"T{depth}.msg").write_text("int32 x\n")
+
+
+def test_show_refuses_a_diamond_before_building_its_text(
+        capsys: pytest.CaptureFixture[str], tmp_path: Path,
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Types holding the next one twice, 40 deep: 3 * 2**40 lines (ddes printed for hours, 3.9 GB in
+    the first minute); now refused from sizes memoised per type, before any text is built."""
+    import tracemalloc
+
+    from ddes.console.rosmsg import MAX_SHOW_CHARS
+
+    _diamond(tmp_path, 40)
+    monkeypatch.setenv("DDES_PACKAGE_PATH", str(tmp_path))
+    tracemalloc.start()
+    try:
+        code, out, err = run(capsys, "rosmsg", "show", "diamond/T0")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert code == 1 and out == ""
+    assert err.startswith(f"ERROR: rosmsg show diamond/T0 would print {3 * 2**40 - 2} lines (")
+    assert f"more than ddes.console.rosmsg.MAX_SHOW_CHARS ({MAX_SHOW_CHARS})" in err
+    assert "'show -r'" in err
+    assert peak < 16 * 2**20
+    # below the limit the text is the full expansion, exactly as before (and as rosmsg prints)
+    code, out, _ = run(capsys, "rosmsg", "show", "diamond/T37")
+    assert code == 0
+    assert out == ("diamond/T38 a\n  diamond/T39 a\n    diamond/T40 a\n      int32 x\n"
+                   "    diamond/T40 b\n      int32 x\n  diamond/T39 b\n    diamond/T40 a\n"
+                   "      int32 x\n    diamond/T40 b\n      int32 x\n"
+                   "diamond/T38 b\n  diamond/T39 a\n    diamond/T40 a\n      int32 x\n"
+                   "    diamond/T40 b\n      int32 x\n  diamond/T39 b\n    diamond/T40 a\n"
+                   "      int32 x\n    diamond/T40 b\n      int32 x\n\n")
+    assert run(capsys, "rosmsg", "md5", "diamond/T37")[0] == 0
+
+
+def test_show_size_is_the_length_of_the_text(tmp_path: Path) -> None:
+    from ddes.console.rosmsg import show_size, spec_to_str
+    from ddes.msg.registry import MessageRegistry
+
+    _diamond(tmp_path, 6)
+    registry = MessageRegistry.from_environment({"DDES_PACKAGE_PATH": str(tmp_path)})
+    for name in ("diamond/T0", "geometry_msgs/PoseStamped", "sensor_msgs/NavSatStatus",
+                 "visualization_msgs/InteractiveMarkerUpdate"):
+        registry.md5sum(name)
+        text = spec_to_str(registry, registry.get_msg_spec(name))
+        assert show_size(registry, registry.get_msg_spec(name)) == (text.count("\n"), len(text))

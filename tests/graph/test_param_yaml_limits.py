@@ -73,6 +73,25 @@ def test_deep_nesting_is_refused_not_a_recursion_error() -> None:
     assert load_yaml("[" * 60 + "]" * 60) is not None
 
 
+def test_command_line_node_params_are_bounded_yaml() -> None:
+    """``_p:=VALUE`` of a node (a launch file's args=, rosrun) goes through the bounded loader:
+    before issue 38 plain yaml.safe_load ended in a RecursionError or kept the bomb."""
+    from ddes.graph.names import load_command_line_node_params
+
+    deep = "[" * 5000 + "]" * 5000
+    with pytest.raises(ResourceLimitError, match=r"command-line parameter _p: YAML nested more "
+                                                 "than 64 deep"):
+        load_command_line_node_params(["_p:=" + deep])
+    bomb = "[" + ",".join(["&a0 [x,x,x,x,x,x,x,x,x]"] + [
+        f"&a{i} [" + ",".join([f"*a{i - 1}"] * 9) + "]" for i in range(1, 9)]) + "]"
+    with traced_peak() as peak:
+        with pytest.raises(ResourceLimitError, match=r"command-line parameter _b: .*alias bomb"):
+            load_command_line_node_params(["_b:=" + bomb])
+    assert peak[0] < 8 * _MB, peak
+    assert load_command_line_node_params(["_rate:=10", "_l:=[1, {a: 2}]"]) == {
+        "rate": 10, "l": [1, {"a": 2}]}
+
+
 def test_too_many_values_or_documents_and_too_much_text_are_refused() -> None:
     with pytest.raises(ResourceLimitError, match="more than 100 values"):
         load_yaml("[" + ",".join(["1"] * 200) + "]", limits=YamlLimits(max_nodes=100))

@@ -9,9 +9,15 @@ from pathlib import Path
 
 import pytest
 
-from ddes.errors import ROSLaunchException
+from ddes.errors import ResourceLimitError, ROSLaunchException
 from ddes.launch import load_launch
 from ddes.launch.loader import MAX_NESTING
+from ddes.launch.substitution import (
+    MAX_EXPANSION_CHARS,
+    MAX_VALUE_CHARS,
+    CostlyLaunchExpression,
+    LaunchLimitError,
+)
 
 BILLION_LAUGHS_YAML = "\n".join(
     ["a0: &a0 [x,x,x,x,x,x,x,x,x]"]
@@ -118,3 +124,69 @@ def test_files_over_16_mib_are_refused_before_reading(tmp_path: Path) -> None:
     # text: refused by its size (the message names the limit), before any XML is parsed
     with pytest.raises(ROSLaunchException, match="larger than 16777216"):
         load_launch("<launch>" + " " * (16 * 1024 * 1024) + "</launch>")
+
+
+def _doubling(levels: int, extra: str = "") -> str:
+    """``a{i}`` defined as ``$(arg a{i-1})$(arg a{i-1})``: 8 * 2**(levels-1) characters at the top."""
+    args = ['<arg name="a0" default="xxxxxxxx"/>'] + [
+        f'<arg name="a{i}" default="$(arg a{i - 1})$(arg a{i - 1})"/>' for i in range(1, levels)]
+    return "<launch>" + "".join(args) + extra + "</launch>"
+
+
+def test_args_doubling_each_other_are_refused_before_the_value_is_built() -> None:
+    hostile = _doubling(40, '<param name="p" value="$(arg a39)"/>')
+    assert len(hostile) < 2000  # 8 TiB once expanded; roslaunch (and ddes before) hung on it
+    def load() -> None:
+        with pytest.raises(LaunchLimitError) as info:
+            load_launch(hostile)
+        text = str(info.value)
+        # the first value past 1 MiB, named with its file and line, before it is built
+        assert '<arg name="a18" default="$(arg a17)$(arg a17)">' in text
+        assert f"a value of 2097152 characters, more than the {MAX_VALUE_CHARS}" in text
+        assert "MAX_VALUE_CHARS" in text and "write the value out instead" in text
+    assert _peak(load) < 8 * 2**20  # the largest value kept is 1 MiB, not the 2 MiB refused
+    assert isinstance(load_launch(_doubling(17)).args["a16"], str)  # 512 KiB: allowed
+
+
+def test_substitutions_are_bounded_in_all_across_includes(tmp_path: Path) -> None:
+    # 512 KiB values, each repeated once: 32 of them reach the 16 MiB every load may add
+    inner = tmp_path / "inner.launch"
+    inner.write_text('<launch><arg name="v"/>' + "".join(
+        f'<param name="p{i}" value="$(arg v)"/>' for i in range(20)) + "</launch>")
+    include = f'<group><include file="{inner}"><arg name="v" value="$(arg a16)"/></include></group>'
+    top = _doubling(17, include * 3)
+    with pytest.raises(LaunchLimitError) as info:
+        load_launch(top)
+    text = str(info.value)
+    assert f"more than the {MAX_EXPANSION_CHARS} ddes allows in all" in text
+    assert "MAX_EXPANSION_CHARS" in text and "included from <string>:1" in text
+    assert isinstance(info.value, ResourceLimitError)
+
+
+def test_a_rosparam_body_longer_than_the_value_limit_still_substitutes() -> None:
+    body = "x: $(arg a)\ny: " + "z" * MAX_VALUE_CHARS  # more than 1 MiB of text already
+    plan = load_launch(f'<launch><arg name="a" default="1"/><rosparam subst_value="true">'
+                       f"{body}</rosparam></launch>")
+    assert plan.params["/x"] == 1 and len(plan.params["/y"]) == MAX_VALUE_CHARS
+
+
+def test_eval_results_are_bounded_like_any_value() -> None:
+    with pytest.raises(CostlyLaunchExpression, match=r"str\.join \(1499001500 items\)"):
+        load_launch('<launch><param name="p" value="$(eval (\'a\'*10**6).join(\'b\'*1500))"/>'
+                    "</launch>")
+
+
+def test_the_evals_of_one_load_share_a_budget(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each $(eval) may touch 5,000,000 items (about a second); a file of thousands of them is
+    bounded in all by MAX_EVAL_WORK, shared across the load."""
+    from ddes.launch import substitution
+
+    monkeypatch.setattr(substitution, "MAX_EVAL_WORK", 20_000)  # stands in for 20,000,000
+    one = '<param name="p{i}" value="$(eval len(sorted(range(1500))))"/>'  # 7511 items
+    assert load_launch("<launch>" + one.format(i=0) + one.format(i=1) + "</launch>"
+                       ).params["/p1"] == 1500
+    with pytest.raises(CostlyLaunchExpression) as info:
+        load_launch("<launch>" + "".join(one.format(i=i) for i in range(10)) + "</launch>")
+    text = str(info.value)
+    assert '<param name="p2"' in text  # the third would pass 20,000 in all
+    assert "may touch 20000 items in all, ddes.launch.substitution.MAX_EVAL_WORK" in text

@@ -154,3 +154,27 @@ def test_codegen_turns_a_syntax_error_into_invalid_msg_spec(monkeypatch: pytest.
     monkeypatch.setattr(codegen, "field_infos", hostile)
     with pytest.raises(InvalidMsgSpec, match="cannot generate a class for 'hostile/Syn'"):
         message_class_from_definition("hostile/Syn", "int32 x\n")
+
+
+def test_a_huge_msg_file_is_refused_before_it_is_read(tmp_path: Path) -> None:
+    import tracemalloc
+
+    from ddes.errors import ResourceLimitError
+    from ddes.msg.registry import MAX_DEFINITION_BYTES
+
+    folder = tmp_path / "big_pkg" / "msg"
+    folder.mkdir(parents=True)
+    with open(folder / "Big.msg", "wb") as f:  # sparse: 4 GiB of nothing on disk
+        f.truncate(4 << 30)
+    (folder / "Fine.msg").write_text("int32 x\n" + "#" * (MAX_DEFINITION_BYTES - 20) + "\n")
+    registry = MessageRegistry([tmp_path])
+    tracemalloc.start()
+    try:
+        with pytest.raises(ResourceLimitError, match=rf"Big\.msg: the definition is larger than "
+                                                     rf"{MAX_DEFINITION_BYTES} bytes"):
+            registry.get_msg_spec("big_pkg/Big")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1 << 20
+    assert registry.get_message_class("big_pkg/Fine")().x == 0

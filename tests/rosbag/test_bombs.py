@@ -8,6 +8,7 @@ size (measured with tracemalloc).
 from __future__ import annotations
 
 import bz2
+import re
 import struct
 import tracemalloc
 from collections.abc import Callable
@@ -22,6 +23,7 @@ from ddes.errors import (
     DdesTypeError,
     DdesValueError,
     ResourceLimitError,
+    ROSBagException,
     ROSBagFormatException,
 )
 from ddes.rosbag import Bag, bagfile
@@ -91,14 +93,14 @@ def test_a_5kb_bag_declaring_2gb_is_refused_before_decompressing(kind: str) -> N
     assert isinstance(err, ResourceLimitError)
     text = str(err)
     assert f"chunk at offset {_CHUNK}" in text and str(2 << 30) in text
-    assert "max_chunk_size=1073741824" in text and "Bag(path, max_chunk_size=" in text
+    assert f"max_chunk_size={bagfile.MAX_CHUNK_SIZE}" in text and "Bag(path, max_chunk_size=" in text
     assert peak < 4 * _MB
 
 
 def test_a_declared_size_far_past_the_file_size_is_refused() -> None:
     good = sample_bag(compression="bz2").to_bytes()
     chunk = Cursor(good, "t").record(_CHUNK)
-    hostile = with_chunk(good, Cursor(good, "t").data(chunk), 200 * _MB)  # < 1 GiB, > 1000x
+    hostile = with_chunk(good, Cursor(good, "t").data(chunk), 200 * _MB)  # < 256 MiB, > 1000x
     peak, err = _peak(lambda: Bag.from_bytes(hostile))
     assert isinstance(err, ResourceLimitError)
     assert "1000x the file's" in str(err) and "decompression bomb" in str(err)
@@ -230,3 +232,109 @@ def test_control_characters_in_names_are_escaped_in_info() -> None:
     back = Bag.from_bytes(bag.to_bytes())
     assert "\x1b" not in str(back) and "/evil\\n\\x1b[2J: x" in str(back)
     assert yaml.safe_load(back.yaml_info())["topics"][0]["topic"] == "/evil\\n\\x1b[2J: x"
+
+
+# -- issue 38: declared sizes, files that are not bags, definitions that cost ----------------
+
+@pytest.mark.parametrize("kind", ["bz2", "lz4"])
+def test_a_chunk_declaring_a_gigabyte_is_refused_even_in_a_large_file(kind: str) -> None:
+    """10**9 bytes declared in a 1.2 MB file passes the 1000x rule; lz4 data that really
+    inflated that far drove rosbag info to 1.9 GB: the per-chunk limit refuses it first."""
+    import os
+
+    bag = Bag(compression=kind)
+    bag.write("/a", String(data="hi"), Time(1))
+    bag.write("/pad", String(data=os.urandom(1_200_000).hex()), Time(2))  # hardly compresses
+    good = bag.to_bytes()
+    hostile = with_chunk(good, Cursor(good, "t").data(Cursor(good, "t").record(_CHUNK)), 10**9)
+    assert 10**9 < bagfile.INFLATE_RATIO * len(hostile)  # within the ratio rule
+    peak, err = _peak(lambda: Bag.from_bytes(hostile))
+    assert isinstance(err, ResourceLimitError)
+    text = str(err)
+    assert f"the chunk declares {10**9} bytes (953.7 MiB)" in text
+    assert f"over the limit max_chunk_size={bagfile.MAX_CHUNK_SIZE} (256.0 MiB)" in text
+    assert "Bag(path, max_chunk_size=1000000000)" in text
+    assert peak < 4 * _MB + 2 * len(hostile)  # nothing decompressed
+
+
+def test_files_that_are_not_bags_are_refused_before_reading(
+        tmp_path: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``rosbag info /dev/zero`` read until a MemoryError (15 GB in a minute); a FIFO blocked."""
+    import os
+
+    fifo = tmp_path / "fifo.bag"
+    os.mkfifo(fifo)
+    for path, kind in (("/dev/zero", "a device"), (str(fifo), "a FIFO (named pipe)")):
+        with pytest.raises(ROSBagException, match=re.escape(f"{path}: is {kind}, not a bag")):
+            Bag(path)
+    big = tmp_path / "big.bag"
+    big.write_bytes(sample_bag().to_bytes())
+    monkeypatch.setattr(bagfile, "MAX_FILE_SIZE", 1000)  # stands in for 8 GiB
+    peak, err = _peak(lambda: Bag(str(big)))
+    assert isinstance(err, ResourceLimitError)
+    assert "larger than 1000 bytes" in str(err) and "MAX_FILE_SIZE" in str(err)
+    assert peak < _MB
+
+
+def _diamond_definition(depth: int, variant: int) -> str:
+    """``d/T0``'s message_definition: each type holds the next one twice (``T{depth}`` an int8)."""
+    parts = [f"# variant {variant}\nd/T1 a\nd/T1 b\n"]
+    for i in range(1, depth):
+        parts.append(f"{'=' * 80}\nMSG: d/T{i}\nd/T{i + 1} a\nd/T{i + 1} b\n")
+    parts.append(f"{'=' * 80}\nMSG: d/T{depth}\nint8 x\n")
+    return "".join(parts)
+
+
+def _diamond_mcap(depth: int, channels: int) -> bytes:
+    import io
+
+    from mcap.writer import CompressionType, Writer
+
+    out = io.BytesIO()
+    writer = Writer(out, compression=CompressionType.NONE)
+    writer.start(profile="ros1", library="test")
+    for k in range(channels):
+        schema = writer.register_schema(name="d/T0", encoding="ros1msg",
+                                        data=_diamond_definition(depth, k).encode())
+        channel = writer.register_channel(topic=f"/t{k}", message_encoding="ros1",
+                                          schema_id=schema, metadata={})
+        writer.add_message(channel_id=channel, log_time=k, data=b"\0" * 2**depth,
+                           publish_time=k)
+    writer.finish()  # type: ignore[no-untyped-call,unused-ignore]
+    return out.getvalue()
+
+
+def test_rosbag_info_of_mcap_schemas_generates_no_class(monkeypatch: pytest.MonkeyPatch) -> None:
+    """60 distinct schemas each defining 16384 inlined fields, 1.2 MB: rosbag info generated a
+    class per channel for its md5sum (over 60 s, 1.1 GB); the md5 needs no class."""
+    import ddes.msg.registry as registry
+
+    data = _diamond_mcap(14, 60)
+    assert len(data) < 1_300_000
+
+    def no_codegen(*args: object, **kwargs: object) -> None:
+        raise AssertionError("rosbag info generated a message class")
+
+    monkeypatch.setattr(registry, "generate_message_class", no_codegen)
+    bag = Bag.from_bytes(data)
+    text = str(bag)
+    assert text.count("1 msg     : d/T0") == 60
+    assert bag.get_type_and_topic_info().topics["/t0"].msg_type == "d/T0"
+    md5 = registry.definition_facts("d/T0", _diamond_definition(14, 0))[0]
+    assert bag.get_type_and_topic_info().msg_types["d/T0"] == md5
+
+
+def test_classes_rebuilt_from_definitions_are_bounded_per_bag(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Reading messages rebuilds their classes: their fields are summed before generating."""
+    from ddes.rosbag import bag as bag_module
+
+    monkeypatch.setattr(bag_module, "MAX_REBUILT_FIELDS", 100)  # stands in for 50,000
+    data = _diamond_mcap(5, 3)  # each definition: 32 + 16 + ... + 1 = 63 fields to generate
+    with pytest.raises(ResourceLimitError) as info:
+        list(Bag.from_bytes(data).read_messages())
+    text = str(info.value)
+    assert "connection 1 (/t1): rebuilding [d/T0] from its message_definition takes 63 " \
+           "fields (nested types inlined), 126 with the classes this bag rebuilt before" in text
+    assert "MAX_REBUILT_FIELDS (100)" in text
+    assert len(list(Bag.from_bytes(_diamond_mcap(5, 1)).read_messages())) == 1
