@@ -247,15 +247,19 @@ def _start_script(world: World, package: str, script: Path, *, name: str | None,
                   namespace: str, argv: Sequence[str], remappings: dict[str, str] | None,
                   cwd: str | None) -> Node:
     """Run a rospy script as a node (:mod:`ddes.compat.scripts`); its node once it has one."""
-    from ddes.compat.scripts import run_script
+    from ddes.compat.scripts import ScriptContext, run_script
     from ddes.graph.blocking import current_node
 
     args = list(argv)
     if name is not None and not any(a.startswith("__name:=") for a in args):
         args.append(f"__name:={name}")  # roslaunch passes a launch name= this way
 
+    started: list[ScriptContext] = []
+
     def out(text: str, stderr: bool) -> None:
         node = current_node()  # the script's code prints on its own greenlet
+        if node is None and started:  # or in a hook the kernel runs (on_shutdown): its node
+            node = started[0].node
         if node is None:
             stream = sys.stderr if stderr else sys.stdout
             stream.write(text + "\n")
@@ -264,6 +268,7 @@ def _start_script(world: World, package: str, script: Path, *, name: str | None,
 
     done, context = run_script(world, script, args, namespace=namespace, remappings=remappings,
                                print_line=out)
+    started.append(context)
     node = context.node
     if node is None:
         code = done.value if done.triggered and done.ok else 1

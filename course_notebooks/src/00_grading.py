@@ -1,4 +1,4 @@
-# ddes-digest: 02fe2b222296d4b8dc20389a3cf1af9b52ff00ca244f6fdf2c194ceef3773454
+# ddes-digest: c96a2ec050531fe53e1467e06c1036b7529ef4df6387c74e179421738a842a67
 # %% [markdown]
 # # For instructors: grading with ddes
 #

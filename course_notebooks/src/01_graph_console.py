@@ -1,4 +1,4 @@
-# ddes-digest: cbe92310bf57f7bb7076555effffe6048fcd3656a1725983c1b61e2c4208ed0e
+# ddes-digest: f4a357801d081841e5a8c589391dbb799065fd1cffaf60d754add0fc29a8ee71
 # %% [markdown]
 # # Lecture 1: the ROS graph and the console
 #

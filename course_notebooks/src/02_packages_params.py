@@ -1,4 +1,4 @@
-# ddes-digest: bf7600e59aec15a185f8ac81fa7954218ed03f9c8757c9494e8514703d7256c8
+# ddes-digest: 106954acc673620e58f3e0fd006e4a0d7320c833935816b1fe0bb08cadb614f2
 # %% [markdown]
 # # Lecture 2: packages, parameters and launch files
 #

@@ -1,4 +1,4 @@
-# ddes-digest: f76799300673634b2c7e6ed1a649c90fad2caf4b58b079c577b95f29d2b0530e
+# ddes-digest: b54bf04ceda14bd8d301ca2ac7043dce20d0b41107c912a147c000852626c735
 # %% [markdown]
 # # Lecture 3: TF and a P controller
 #

@@ -1,4 +1,4 @@
-# ddes-digest: 834d7af329dea0da5f7f002a3a3fd6446d51ec85fe746fd64f03db52f9689d5f
+# ddes-digest: 33594f4d52b6700f81571b7a78e2ef34ba7be98100d5d0ddd44fd803cd50c946
 # %% [markdown]
 # # Lecture 5: debugging a crash
 #

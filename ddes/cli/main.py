@@ -25,6 +25,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "ddes.console.rosbag",
     "ddes.cli.console",
     "ddes.cli.run",
+    "ddes.cli.rostest",
     "ddes.cli.grade",
     "ddes.cli.course",
     "ddes.console.viz",

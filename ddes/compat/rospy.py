@@ -18,7 +18,9 @@ A script runs as a node when ddes starts it (``rosrun PKG talker.py``, launch
 
 from __future__ import annotations
 
+import linecache
 import logging
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -33,7 +35,7 @@ from ddes.errors import (
     ServiceException,
 )
 from ddes.graph.blocking import INIT_TEXT, attach, current_task, wait, wait_ns
-from ddes.graph.names import NameResolver
+from ddes.graph.names import NameResolver, get_ros_namespace
 from ddes.graph.rosout import DEBUG as _DEBUG
 from ddes.graph.rosout import ERROR as _ERROR
 from ddes.graph.rosout import FATAL as _FATAL
@@ -49,7 +51,8 @@ from ddes.services import Service as _Service
 from ddes.services import ServiceProxy as _ServiceProxy
 from ddes.services import wait_for_service as _wait_for_service
 from ddes.time.rate import Rate as _Rate
-from ddes.time.rostime import Duration, Time
+from ddes.time.rostime import Duration as _Duration
+from ddes.time.rostime import Time as _Time
 
 if TYPE_CHECKING:
     from ddes.graph.node import Node
@@ -59,14 +62,15 @@ __all__ = [
     "DEBUG", "ERROR", "FATAL", "INFO", "WARN",
     "AnyMsg", "Duration", "Header", "Publisher", "ROSException", "ROSInitException",
     "ROSInterruptException", "ROSSerializationException", "ROSTimeMovedBackwardsException",
-    "Rate", "Service", "ServiceException", "ServiceProxy", "Subscriber", "Time", "Timer",
-    "TimerEvent",
+    "Rate", "Service", "ServiceException", "ServiceProxy", "SubscribeListener", "Subscriber",
+    "Time", "Timer", "TimerEvent",
     "delete_param", "get_caller_id", "get_name", "get_namespace", "get_param", "get_param_cached",
     "get_param_names", "get_rostime", "get_time", "has_param", "init_node", "is_shutdown",
     "logdebug", "logdebug_once", "logdebug_throttle", "logerr", "logerr_once", "logerr_throttle",
     "logfatal", "logfatal_once", "logfatal_throttle", "loginfo", "loginfo_once",
     "loginfo_throttle", "logout", "logwarn", "logwarn_once", "logwarn_throttle", "myargv",
-    "on_shutdown", "resolve_name", "rostime", "search_param", "set_param", "signal_shutdown",
+    "core", "names", "on_shutdown", "resolve_name", "rostime", "search_param", "set_param",
+    "signal_shutdown",
     "sleep", "spin",
     "wait_for_message", "wait_for_service",
 ]
@@ -77,6 +81,48 @@ _LEVEL_NAMES = {DEBUG: "debug", INFO: "info", WARN: "warn", ERROR: "error", FATA
 
 #: rospy.Header: std_msgs/Header.
 Header = get_message_class("std_msgs/Header")
+
+
+class Duration(_Duration):
+    """rospy.Duration: ddes's Duration (genpy's algebra), shown as rospy shows it
+    (``rospy.Duration[2000000003]``)."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return f"rospy.Duration[{self.to_nsec()}]"
+
+
+class _GenpyDuration(_Duration):
+    """What ``rospy.Time - rospy.Time`` gives: genpy's Duration (rospy.Time inherits genpy's
+    ``__sub__``), shown as ``genpy.Duration[...]``."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return f"genpy.Duration[{self.to_nsec()}]"
+
+
+class Time(_Time):
+    """rospy.Time: ddes's Time (genpy's algebra), shown as rospy shows it
+    (``rospy.Time[1000000005]``); ``Time.now()`` reads the node of the running code."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return f"rospy.Time[{self.to_nsec()}]"
+
+    def __sub__(self, other: Any) -> Any:
+        result = super().__sub__(other)
+        if type(result) is _Duration:  # Time - Time: genpy's Duration, as rospy's
+            return _GenpyDuration._from_ns(result.to_nsec())
+        return result
+
+    @classmethod
+    def now(cls, clock: Any = None) -> Time:  # type: ignore[override]
+        """rospy.Time.now(): the ROS time of this script's node."""
+        source = clock if clock is not None else _time_node()
+        return cls._from_ns(source.get_rostime().to_nsec())
 
 #: The fix appended to a ROSInitException raised outside any node.
 _HOW = (" (ddes: a rospy call acts on the node of the code that makes it; this code runs outside "
@@ -176,9 +222,12 @@ def myargv(argv: list[str] | None = None) -> list[str]:
 
 
 def get_name() -> str:
-    """rospy.get_name: the node's name (``/unnamed`` before init_node, as rospy)."""
+    """rospy.get_name: the node's name (``/unnamed`` before init_node, as rospy, in the
+    script's namespace)."""
     node = _current()
-    return node.name if node is not None else "/unnamed"
+    if node is not None:
+        return node.name
+    return _Unnamed.of(current_task()).name if current_task() is not None else "/unnamed"
 
 
 get_caller_id = get_name
@@ -187,7 +236,10 @@ get_caller_id = get_name
 def get_namespace() -> str:
     """rospy.get_namespace."""
     node = _current()
-    return node.get_namespace() if node is not None else "/"
+    if node is not None:
+        return node.get_namespace()
+    task = current_task()
+    return _Unnamed.of(task).namespace if task is not None else "/"
 
 
 def resolve_name(name: str, caller_id: str | None = None) -> str:
@@ -201,14 +253,40 @@ def resolve_name(name: str, caller_id: str | None = None) -> str:
 
 # -- lifecycle -----------------------------------------------------------------------------------
 def is_shutdown() -> bool:
-    """rospy.is_shutdown (False before init_node, as rospy)."""
+    """rospy.is_shutdown (False before init_node, and in a shutdown hook, as rospy)."""
     node = _current()
     return node.is_shutdown() if node is not None else False
 
 
+def is_shutdown_requested() -> bool:
+    """rospy.core.is_shutdown_requested: True from the start of the shutdown (in the hooks)."""
+    node = _current()
+    return node.is_shutdown_requested() if node is not None else False
+
+
 def on_shutdown(h: Callable[[], object]) -> None:
-    """rospy.on_shutdown: ``h()`` (no argument, as rospy calls client hooks) at shutdown."""
-    _node().on_shutdown(lambda _reason: h())
+    """rospy.on_shutdown: ``h()`` (no argument, as rospy calls client hooks) when the node
+    starts to shut down, before its topics close: a message it publishes is delivered, and
+    ``is_shutdown()`` is still False there (``is_shutdown_requested()`` True), as in rospy.
+    Before ``init_node`` the hook waits for the node."""
+    node = _current()
+    if node is not None:
+        node.on_preshutdown(h)
+        return
+    task = current_task()
+    if task is None:
+        raise ROSInitException("client code must call rospy.init_node() first" + _HOW)
+    _context_of(task).before_init.append(_LaterHook(h))
+
+
+class _LaterHook:
+    """An ``on_shutdown`` hook given before ``init_node``: registered with the node."""
+
+    def __init__(self, hook: Callable[[], object]) -> None:
+        self._hook = hook
+
+    def _make(self) -> None:
+        _node().on_preshutdown(self._hook)
 
 
 def signal_shutdown(reason: str) -> None:
@@ -224,8 +302,8 @@ def spin() -> None:
 
 # -- time ------------------------------------------------------------------------------------------
 def get_rostime() -> Time:
-    """rospy.get_rostime."""
-    return _time_node().get_rostime()
+    """rospy.get_rostime (a ``rospy.Time``)."""
+    return Time._from_ns(_time_node().clock.now_ns())
 
 
 def get_time() -> float:
@@ -259,7 +337,16 @@ def _rostime_module() -> Any:
 
 
 def sleep(duration: DurationLike) -> None:
-    """rospy.sleep: block this node for ``duration`` of ROS time (seconds or Duration)."""
+    """rospy.sleep: block this node for ``duration`` of ROS time (seconds or Duration).
+
+    Before ``init_node`` rospy sleeps on the wall clock: here the kernel clock."""
+    node = _current()
+    task = current_task()
+    if node is None and task is not None:
+        from ddes.time.sleep import sleep as _sleep
+
+        wait(_sleep(task.world.kernel_clock, duration), "rospy.sleep()")
+        return
     node = _blocking_node("rospy.sleep()")
     wait(node.sleep(duration), "rospy.sleep()")
 
@@ -288,14 +375,14 @@ class Rate:
 
     def remaining(self) -> Duration:
         """Time left in the current cycle."""
-        return self._rate.remaining()
+        return Duration._from_ns(self._rate.remaining().to_nsec())
 
     @property
-    def sleep_dur(self) -> Duration:
+    def sleep_dur(self) -> _Duration:
         return self._rate.sleep_dur
 
     @property
-    def last_time(self) -> Duration:
+    def last_time(self) -> _Duration:
         return self._rate.last_time
 
 
@@ -309,9 +396,10 @@ class Timer(_Timer):
 
 # -- topics and services ----------------------------------------------------------------------------
 class _BeforeInit:
-    """A publisher or subscriber a script creates before ``rospy.init_node`` (rospy allows it,
-    and its tutorials do it): the real one is made when the node exists; until then using it
-    raises rospy's "ROS node has not been initialized yet" text."""
+    """A publisher, subscriber, service or service proxy a script creates before
+    ``rospy.init_node`` (rospy allows it, and its tutorials do it): the real one is made when
+    the node exists; until then using it raises rospy's "ROS node has not been initialized
+    yet" text (a proxy's ``wait_for_service`` works, as rospy's does)."""
 
     def __init__(self, cls: type, args: tuple[object, ...], kwargs: dict[str, object]) -> None:
         self._cls = cls
@@ -325,6 +413,9 @@ class _BeforeInit:
     def __getattr__(self, name: str) -> Any:
         real = self.__dict__.get("_real")
         if real is None:
+            if name == "wait_for_service" and self._cls is ServiceProxy:
+                service = self._args[0] if self._args else self._kwargs.get("name")
+                return lambda timeout=None: wait_for_service(str(service), timeout)
             raise ROSException("ROS node has not been initialized yet. Please call init_node() "
                                "first")
         value = getattr(real, name)
@@ -332,9 +423,27 @@ class _BeforeInit:
             self.__dict__[name] = value  # a method: found directly from now on (publish)
         return value
 
+    def __call__(self, *args: Any, **kwds: Any) -> Any:
+        real = self.__dict__.get("_real")
+        if real is None:
+            raise ROSInitException(
+                "ROS node has not been initialized yet. Please call init_node() first (ddes: "
+                "a service call before rospy.init_node has no node to call from; rospy makes "
+                "it as /unnamed)")
+        return real(*args, **kwds)  # type: ignore[operator]
+
     def __repr__(self) -> str:
         real = self.__dict__.get("_real")
         return repr(real) if real is not None else f"<{self._cls.__name__} before init_node>"
+
+
+def _context_of(task: Any) -> Any:
+    """The script context of ``task`` (one is made for code spawned without a script)."""
+    if task.context is None:
+        from ddes.compat.scripts import ScriptContext
+
+        task.context = ScriptContext(path=Path(), argv=[])
+    return task.context
 
 
 def _pending(cls: type, args: tuple[object, ...], kwargs: dict[str, object]) -> Any:
@@ -342,20 +451,74 @@ def _pending(cls: type, args: tuple[object, ...], kwargs: dict[str, object]) -> 
     task = current_task()
     if task is None or task.node is not None:
         return None
-    if task.context is None:  # code spawned without a script: a context to hold them
-        from ddes.compat.scripts import ScriptContext
-
-        task.context = ScriptContext(path=Path(), argv=[])
     later = _BeforeInit(cls, args, kwargs)
-    context: Any = task.context
-    context.before_init.append(later)
+    _context_of(task).before_init.append(later)
     return later
 
 
+#: rospy's warning for a Publisher without ``queue_size`` (a ``SyntaxWarning``).
+QUEUE_SIZE_WARNING = ("The publisher should be created with an explicit keyword argument "
+                      "'queue_size'. Please see "
+                      "http://wiki.ros.org/rospy/Overview/Publishers%20and%20Subscribers for "
+                      "more information.")
+
+
+def _warn_queue_size(depth: int) -> None:
+    """Print rospy's ``SyntaxWarning`` as Python's ``warnings`` does, once per line of the
+    script (the default filter), on the script's standard error."""
+    task = current_task()
+    if task is None:
+        return
+    context = _context_of(task)
+    frame = sys._getframe(depth)
+    if frame.f_code.co_filename == __file__:  # made at init_node: warned when it was asked for
+        return
+    site = (frame.f_code.co_filename, frame.f_lineno)
+    seen = context.__dict__.setdefault("_warned", set())
+    if site in seen:
+        return
+    seen.add(site)
+    text = f"{site[0]}:{site[1]}: SyntaxWarning: {QUEUE_SIZE_WARNING}"
+    line = linecache.getline(site[0], site[1]).strip()
+    if line:
+        text += "\n  " + line
+    paths = task.world.display_paths
+    if paths:
+        from ddes.graph.rosout import show_paths
+
+        text = show_paths(text, paths)
+    printer = getattr(context, "print_line", None)
+    if printer is not None:
+        printer(text, True)
+    else:
+        sys.stderr.write(text + "\n")
+
+
+class SubscribeListener:
+    """rospy.SubscribeListener: give one to ``Publisher(..., subscriber_listener=l)`` to hear
+    of each subscriber connecting (``peer_subscribe(topic_name, topic_publish,
+    peer_publish)``: publish to all, or to that subscriber only) and going
+    (``peer_unsubscribe(topic_name, num_peers)``), on the publishing node's callbacks."""
+
+    def peer_subscribe(self, topic_name: str, topic_publish: Callable[[Any], None],
+                       peer_publish: Callable[[Any], None]) -> None:
+        pass
+
+    def peer_unsubscribe(self, topic_name: str, num_peers: int) -> None:
+        pass
+
+
 class Publisher(_Publisher):  # type: ignore[type-arg]
-    """rospy.Publisher on this node (ddes.Publisher with the node of the running script)."""
+    """rospy.Publisher on this node (ddes.Publisher with the node of the running script).
+
+    A second Publisher on a topic the node publishes shares its connections (rospy's one
+    topic impl per node and name); without ``queue_size`` rospy's ``SyntaxWarning`` is
+    printed on the script's standard error, once per line."""
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Any:
+        queue_size = kwargs.get("queue_size", args[6] if len(args) > 6 else None)
+        if queue_size is None:
+            _warn_queue_size(2)
         return _pending(cls, args, kwargs) or super().__new__(cls)
 
     def __init__(self, name: str, data_class: Any, subscriber_listener: object = None,
@@ -367,7 +530,9 @@ class Publisher(_Publisher):  # type: ignore[type-arg]
 
 
 class Subscriber(_Subscriber):  # type: ignore[type-arg]
-    """rospy.Subscriber on this node; its callbacks run on greenlets and may block."""
+    """rospy.Subscriber on this node; its callbacks run on greenlets and may block.  The
+    Subscribers of one topic share its connections (and a latched message reaches a new one
+    at once, in its constructor, as rospy #1852)."""
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Any:
         return _pending(cls, args, kwargs) or super().__new__(cls)
@@ -380,7 +545,11 @@ class Subscriber(_Subscriber):  # type: ignore[type-arg]
 
 
 class Service(_Service):
-    """rospy.Service on this node; the handler may block."""
+    """rospy.Service on this node; the handler may block.  Made before ``init_node``, it is
+    registered when the node starts, as rospy's."""
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Any:
+        return _pending(cls, args, kwargs) or super().__new__(cls)
 
     def __init__(self, name: str, service_class: Any, handler: Callable[..., object],
                  buff_size: int = 65536,
@@ -389,7 +558,13 @@ class Service(_Service):
 
 
 class ServiceProxy:
-    """rospy.ServiceProxy: ``resp = proxy(req)`` blocks this node until the response."""
+    """rospy.ServiceProxy: ``resp = proxy(req)`` blocks this node until the response.
+
+    Made before ``init_node``, it is made for the node when it starts; its
+    ``wait_for_service`` works before then too (a call needs the node: a deviation)."""
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Any:
+        return _pending(cls, args, kwargs) or super().__new__(cls)
 
     def __init__(self, name: str, service_class: Any, persistent: bool = False,
                  headers: dict[str, str] | None = None) -> None:
@@ -397,9 +572,19 @@ class ServiceProxy:
         self.resolved_name = self._proxy.resolved_name
         self.request_class = self._proxy.request_class
         self.response_class = self._proxy.response_class
+        self._error_prefix = f"service [{self.resolved_name}] responded with an error: "
 
     def __call__(self, *args: Any, **kwds: Any) -> Any:
-        return wait(self._proxy.call(*args, **kwds), "proxy(request)")
+        try:
+            return wait(self._proxy.call(*args, **kwds), "proxy(request)")
+        except ServiceException as exc:
+            text = str(exc)
+            prefix = self._error_prefix
+            if not text.startswith(prefix) or type(exc) is not ServiceException:
+                raise
+            # rospy puts the server's bytes in its text as Python 3 shows bytes: b'...'
+            raise ServiceException(
+                prefix + repr(text[len(prefix):].encode("utf-8"))) from None
 
     call = __call__
 
@@ -411,13 +596,56 @@ class ServiceProxy:
 
 
 def wait_for_service(service: str, timeout: DurationLike | None = None) -> None:
-    """rospy.wait_for_service: block until ``service`` is registered (ROSException on timeout)."""
+    """rospy.wait_for_service: block until ``service`` is registered (ROSException on timeout).
+
+    Before ``init_node`` it waits as rospy's does then: the name resolved as ``/unnamed``'s,
+    the timeout on the wall clock (the kernel clock)."""
+    task = current_task()
+    if task is not None and task.node is None:
+        _wait_for_service_unnamed(task, service, timeout)
+        return
     node = _blocking_node("rospy.wait_for_service()")
     wait(_wait_for_service(node, service, timeout), "rospy.wait_for_service()")
 
 
+def _wait_for_service_unnamed(task: Any, service: str, timeout: DurationLike | None) -> None:
+    from ddes.services.network import network_of
+    from ddes.services.server import check_service_name
+    from ddes.services.waiting import check_nonzero_timeout
+    from ddes.time.units import duration_to_ns
+
+    check_service_name(service, "wait_for_service")
+    timeout_ns = None if timeout is None else duration_to_ns(timeout, "timeout")
+    check_nonzero_timeout(timeout_ns)
+    world = task.world
+    name = _Unnamed.of(task).resolve_name(service)
+    event = world.env.event()
+    expired = ROSException(f"timeout exceeded while waiting for service {name}")
+    if timeout_ns is not None and timeout_ns < 0:
+        raise expired
+    if world.master.lookup_service(name) is not None:
+        return
+    net = network_of(world)
+
+    def registered() -> None:
+        if not event.triggered:
+            event.succeed(None)
+
+    def expire(_ev: object) -> None:
+        if not event.triggered:
+            net.remove_waiter(name, registered)
+            event.fail(expired)
+
+    net.add_waiter(name, registered)
+    if timeout_ns is not None:
+        clock = world.kernel_clock
+        clock.wait_until(clock.now_ns() + timeout_ns).callbacks.append(expire)
+    wait(event, "rospy.wait_for_service()")
+
+
 def wait_for_message(topic: str, topic_type: Any, timeout: DurationLike | None = None) -> Any:
-    """rospy.wait_for_message: block until the next message on ``topic``."""
+    """rospy.wait_for_message: block until the next message on ``topic`` (a subscription the
+    node has on it is shared: its latched message comes at once)."""
     node = _blocking_node("rospy.wait_for_message()")
     return wait(node.wait_for_message(topic, topic_type, timeout), "rospy.wait_for_message()")
 
@@ -426,11 +654,76 @@ def wait_for_message(topic: str, topic_type: Any, timeout: DurationLike | None =
 _UNSPECIFIED: Any = object()
 
 
+class _Unnamed:
+    """What a script is before ``init_node``: rospy's process without a node, whose caller id
+    is ``/unnamed`` in its namespace and whose names resolve without remappings (rospy reads
+    parameters and waits for services then, through the master)."""
+
+    def __init__(self, world: Any, namespace: str) -> None:
+        self.world = world
+        self._resolver = NameResolver("unnamed", namespace, {})
+        self.name = self._resolver.name
+        self.namespace = self._resolver.namespace
+
+    @staticmethod
+    def of(task: Any) -> _Unnamed:
+        context = task.context
+        argv = list(getattr(context, "argv", None) or [])
+        namespace = get_ros_namespace({"ROS_NAMESPACE": getattr(context, "namespace", "/")},
+                                      argv)
+        return _Unnamed(task.world, namespace)
+
+    def resolve_name(self, name: str) -> str:
+        return self._resolver.resolve(name)
+
+    def get_param(self, name: str, default: Any = _UNSPECIFIED) -> Any:
+        key = self.resolve_name(name)
+        params = self.world.master.params
+        observer = self.world.param_observer
+        if observer is not None:
+            observer(self.name, key, params.has_param(key))
+        return params.get_param(key) if default is _UNSPECIFIED else params.get_param(key, default)
+
+    def set_param(self, name: str, value: Any) -> None:
+        self.world.master.params.set_param(self.resolve_name(name), value, caller_id=self.name)
+
+    def has_param(self, name: str) -> bool:
+        return bool(self.world.master.params.has_param(self.resolve_name(name)))
+
+    def delete_param(self, name: str) -> None:
+        self.world.master.params.delete_param(self.resolve_name(name))
+
+    def search_param(self, name: str) -> str | None:
+        key = self._resolver.search_key(name)
+        if not key or key.startswith("~"):
+            return None
+        return self.world.master.params.search_param(self.name, key)  # type: ignore[no-any-return]
+
+    def get_param_names(self) -> list[str]:
+        return list(self.world.master.params.get_param_names())
+
+
+def _param_owner() -> Any:
+    """The node, or before ``init_node`` the script as ``/unnamed`` (rospy's parameter calls
+    work then)."""
+    node = _current()
+    if node is not None:
+        return node
+    task = current_task()
+    if task is None:
+        return _node()  # outside any script: rospy's text and the ddes fix
+    return _Unnamed.of(task)
+
+
 def get_param(param_name: str, default: Any = _UNSPECIFIED) -> Any:
-    """rospy.get_param (KeyError without a default)."""
-    node = _node()
-    return node.get_param(param_name) if default is _UNSPECIFIED \
-        else node.get_param(param_name, default)
+    """rospy.get_param (``KeyError`` of the name as given without a default, as rospy's)."""
+    owner = _param_owner()
+    if default is not _UNSPECIFIED:
+        return owner.get_param(param_name, default)
+    try:
+        return owner.get_param(param_name)
+    except KeyError:
+        raise KeyError(param_name) from None
 
 
 get_param_cached = get_param
@@ -438,27 +731,30 @@ get_param_cached = get_param
 
 def set_param(param_name: str, param_value: Any) -> None:
     """rospy.set_param."""
-    _node().set_param(param_name, param_value)
+    _param_owner().set_param(param_name, param_value)
 
 
 def has_param(param_name: str) -> bool:
-    """rospy.has_param."""
-    return _node().has_param(param_name)
+    """rospy.has_param (False for a name that is not set)."""
+    return bool(_param_owner().has_param(param_name))
 
 
 def delete_param(param_name: str) -> None:
-    """rospy.delete_param."""
-    _node().delete_param(param_name)
+    """rospy.delete_param (``KeyError`` of the name as given when it is not set)."""
+    try:
+        _param_owner().delete_param(param_name)
+    except KeyError:
+        raise KeyError(param_name) from None
 
 
 def search_param(param_name: str) -> str | None:
     """rospy.search_param."""
-    return _node().search_param(param_name)
+    return _param_owner().search_param(param_name)  # type: ignore[no-any-return]
 
 
 def get_param_names() -> list[str]:
     """rospy.get_param_names."""
-    return _node().get_param_names()
+    return list(_param_owner().get_param_names())
 
 
 # -- logging ------------------------------------------------------------------------------------------
@@ -472,7 +768,7 @@ def _log(level: int, msg: object, args: tuple[object, ...], throttle: DurationLi
     if node is None:  # rospy before init_node: its Python logger, no /rosout
         logging.getLogger("rosout").log(_PY_LEVELS[level], str(msg), *args)
         return
-    node.log.log(level, msg, args, depth=3, throttle=throttle, once=once)
+    node.log.log(level, msg, args, depth=3, throttle=throttle, once=once, qualify=True)
 
 
 def logdebug(msg: object, *args: object) -> None:
@@ -538,6 +834,71 @@ def logfatal_once(msg: object, *args: object) -> None:
     _log(_FATAL, msg, args, once=True)
 
 
+def get_mappings() -> dict[str, str]:
+    """rospy.names.get_mappings: the script's command-line remappings as given
+    (``__name:=`` and the other special ones too, as rosgraph loads them)."""
+    from ddes.graph.names import load_mappings
+
+    task = current_task()
+    return load_mappings(list(getattr(task.context if task else None, "argv", None) or [])[1:])
+
+
+def get_resolved_mappings() -> dict[str, str]:
+    """rospy.names.get_resolved_mappings: the node's remappings, resolved ({} before
+    init_node, as rospy)."""
+    node = _current()
+    return dict(node.remappings) if node is not None else {}
+
+
+def _names_module() -> Any:
+    import types
+
+    from ddes.graph import names as graph_names
+
+    mod = types.ModuleType("rospy.names", "rospy.names: ROS names of the script's node "
+                                          "(rosgraph.names' functions, and the node's own)")
+    for name in ("SEP", "GLOBALNS", "REMAP", "ANYTYPE", "PRIV_NAME", "canonicalize_name",
+                 "get_ros_namespace", "is_global", "is_private", "is_legal_name",
+                 "is_legal_base_name", "load_mappings", "make_caller_id", "make_global_ns",
+                 "namespace", "ns_join", "anonymous_name"):
+        setattr(mod, name, getattr(graph_names, name))
+    for name, value in (("get_caller_id", get_caller_id), ("get_name", get_name),
+                        ("get_namespace", get_namespace), ("resolve_name", resolve_name),
+                        ("get_mappings", get_mappings),
+                        ("get_resolved_mappings", get_resolved_mappings),
+                        ("TOPIC_ANYTYPE", "*"), ("SERVICE_ANYTYPE", "*"),
+                        ("ROSException", ROSException), ("ROSInitException", ROSInitException)):
+        setattr(mod, name, value)
+    return mod
+
+
+def is_initialized() -> bool:
+    """rospy.core.is_initialized: True once this script's node exists."""
+    return _current() is not None
+
+
+def _core_module() -> Any:
+    import types
+
+    mod = types.ModuleType("rospy.core", "rospy.core: the node's life (is_shutdown, "
+                                         "is_shutdown_requested, signal_shutdown ...)")
+    for name, value in (("is_shutdown", is_shutdown),
+                        ("is_shutdown_requested", is_shutdown_requested),
+                        ("is_initialized", is_initialized), ("signal_shutdown", signal_shutdown),
+                        ("on_shutdown", on_shutdown), ("get_caller_id", get_caller_id),
+                        ("logdebug", logdebug), ("loginfo", loginfo), ("logwarn", logwarn),
+                        ("logerr", logerr), ("logfatal", logfatal), ("logout", logout)):
+        setattr(mod, name, value)
+    return mod
+
+
 #: ``rospy.rostime`` (``import rospy; rospy.rostime.wallsleep(1.0)``, ``from rospy.rostime import
 #: wallsleep``): get_rostime, get_time, is_wallclock, wallsleep, Time, Duration.
 rostime = _rostime_module()
+
+#: ``rospy.names`` (``from rospy.names import ns_join``): rosgraph's name functions and the
+#: node's own (get_caller_id, get_namespace, resolve_name, get_mappings ...).
+names = _names_module()
+
+#: ``rospy.core`` (``rospy.core.is_shutdown_requested()``).
+core = _core_module()

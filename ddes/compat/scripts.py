@@ -24,8 +24,9 @@
 
 Everything else imports as usual, and nothing is installed in ``sys.modules``
 or in the real ``builtins``: the user's other code (and other scripts) see
-their own imports.  Modules the script imports keep their own imports (a
-helper module of the user's that imports ``rospy`` gets the real one).
+their own imports.  A module in the script's own folder (its ``sys.path[0]``)
+imports as the script's code, with these imports (:mod:`ddes.compat.scriptdir`); other modules
+the script imports keep their own imports.
 """
 
 from __future__ import annotations
@@ -77,9 +78,11 @@ class ScriptContext:
 class _ScriptSys(types.ModuleType):
     """``sys`` as the script sees it: its own ``argv``, the real module for everything else."""
 
-    def __init__(self, argv: list[str]) -> None:
+    def __init__(self, argv: list[str], path: list[str] | None = None) -> None:
         super().__init__("sys")
         self.argv = argv
+        if path is not None:  # its own list: the script's folder first (ddes.compat.scriptdir)
+            self.path = path
 
     def __getattr__(self, name: str) -> Any:
         return getattr(sys, name)
@@ -95,6 +98,10 @@ class _MessageModule(types.ModuleType):
         self._kind = kind
 
     def __getattr__(self, attr: str) -> Any:
+        if attr == "__all__":  # ``from rospy_tutorials.srv import *``: every type of the package
+            names = self._names()
+            self.__all__ = names
+            return names
         if attr.startswith("__"):
             raise AttributeError(attr)
         registry = self._world.messages
@@ -109,6 +116,20 @@ class _MessageModule(types.ModuleType):
                 f"module '{self.__name__}' has no attribute '{attr}' ({exc})") from None
         setattr(self, attr, cls)
         return cls
+
+
+    def _names(self) -> list[str]:
+        """What genpy's ``__init__`` of the package's ``msg``/``srv`` exports: each type (and a
+        service's ``Request`` and ``Response``)."""
+        try:
+            types = self._world.messages.list_types(self._package, self._kind)
+        except (MsgNotFound, DdesError):
+            return []
+        names: list[str] = []
+        for full in types:
+            base = full.split("/", 1)[1]
+            names += [base, f"{base}Request", f"{base}Response"] if self._kind == "srv" else [base]
+        return names
 
 
 def _service_part(registry: Any, package: str, attr: str) -> Any:
@@ -156,6 +177,11 @@ PROVIDED_MODULES: dict[str, str] = {
     "laser_geometry": "ddes.compat.laser_geometry",
     "angles": "ddes.compat.angles",
     "roslib": "ddes.compat.roslib",
+    "actionlib": "ddes.compat.actionlib",
+    "rostest": "ddes.compat.rostest",
+    "rosnode": "ddes.compat.rosnode",
+    "rosunit": "ddes.compat.rosunit",
+    "rosgraph": "ddes.compat.rosgraph",
 }
 
 #: Python modules that a message package of ROS ships beside its ``msg``: package -> name ->
@@ -201,7 +227,11 @@ def _message_package(world: World, name: str) -> _MessagePackage | None:
 def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
     """The ``__builtins__`` of a script: the real ones with its import and print."""
     real_import = builtins.__import__
-    script_sys = _ScriptSys(context.argv)
+    from ddes.compat.scriptdir import LocalModules
+
+    local = LocalModules([str(context.path.resolve().parent), *sys.path])
+    script_sys = _ScriptSys(context.argv, local.path)
+    numpy_view: list[Any] = []
     from ddes.compat.threads import module
 
     script_threading = module()
@@ -219,11 +249,8 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
             if top == "rospy":
                 from ddes.compat import rospy
 
-                return rospy.rostime if rest == "rostime" and fromlist else rospy
-            if top == "actionlib" and rest not in ("msg", "srv"):
-                from ddes.compat import actionlib
-
-                return actionlib
+                return getattr(rospy, rest) if rest in ("rostime", "names", "core") and fromlist \
+                    else rospy
             if name == "tf2_ros":
                 from ddes.compat import tf2_ros
 
@@ -255,6 +282,15 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 return script_random
             if name == "datetime":
                 return script_datetime
+            if top == "numpy":  # its global generator is the script's (ddes.compat.pinned_numpy)
+                found = real_import(name, globals, locals, fromlist, level)
+                if not numpy_view:
+                    from ddes.compat.pinned_numpy import numpy_module
+
+                    numpy_view.append(numpy_module(world, _stream_name(context)))
+                if rest == "random" and fromlist:
+                    return numpy_view[0].random
+                return found if rest and fromlist else numpy_view[0]
             if rest in ("", "msg", "srv") and top not in sys.builtin_module_names:
                 pkg = _message_package(world, top)
                 if pkg is not None:
@@ -262,12 +298,14 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                         return getattr(pkg, rest)
                     if rest or not _is_importable(top):
                         return pkg
+        found = local.import_(name, fromlist, level, globals)  # the script's own folders
+        if found is not None:
+            return found
         return real_import(name, globals, locals, fromlist, level)
 
     table = dict(builtins.__dict__)
     table["__import__"] = script_import
-    printer = context.print_line
-    if printer is not None:
+    if context.print_line is not None:  # read at each call: rostest captures a test's lines
         real_print = builtins.print
 
         def script_print(*args: object, sep: str | None = " ", end: str | None = "\n",
@@ -276,9 +314,14 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
                 real_print(*args, sep=sep, end=end, file=file, flush=flush)
                 return
             text = (" " if sep is None else sep).join(str(a) for a in args)
+            printer = context.print_line
+            if printer is None:
+                real_print(text, file=file)
+                return
             printer(text, file is sys.stderr)
 
         table["print"] = script_print
+    local.builtins = table
     return table
 
 
@@ -287,7 +330,10 @@ def _stream_name(context: ScriptContext) -> str:
     remappings (never the folder it lies in, which differs from one machine or grade to the
     next)."""
     remaps = sorted(f"{k}:={v}" for k, v in (context.remappings or {}).items())
-    return " ".join([context.path.name, context.namespace, *context.argv[1:], *remaps])
+    args = context.argv[1:]
+    if any(a.startswith("--gtest_output=") for a in args):  # a rostest node: not its plumbing
+        args = [a for a in args if not a.startswith("--gtest_output=") and a != "--text"]
+    return " ".join([context.path.name, context.namespace, *args, *remaps])
 
 
 def _is_importable(name: str) -> bool:

@@ -27,7 +27,11 @@ at the current instant (its start-up, first publish, first log line).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import io
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, TextIO
 
 from ddes.console.toolkit import (
     HelpPrinted,
@@ -65,7 +69,7 @@ def log_router(ctx: ToolContext) -> LogRouter:
 
 def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     """``rosrun [--quiet] PKG NODE [args...]``: start a node in the world (see module docstring)."""
-    from ddes.nodes import start_node
+    from ddes.nodes import NodeExitedError, start_node
 
     args, background = take_background(argv)
     label = command_label("rosrun", args)
@@ -91,9 +95,13 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     name = parse_node_args(rest).name or None
     before = set(world.nodes)
     try:
-        with router.starting(level):
-            node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest, name=name,
-                              cwd=ctx.cwd)
+        with router.starting(level), _script_streams(ctx):
+            try:
+                node = start_node(world, pkg, node_type, rospack=ctx.rospack, argv=rest,
+                                  name=name, cwd=ctx.cwd)
+            except NodeExitedError:
+                settle(world)  # the script's end is handled now: its traceback prints here
+                raise
     except DdesError:
         raise
     except Exception as exc:  # noqa: BLE001 - the node's own start-up code failed
@@ -114,6 +122,53 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
                     waiting_for=f"{node.name} to exit",
                     hint=f"{node.name} runs until Ctrl+C in ROS; end the line with & to keep it "
                          "running in the background (rosrun ... &)")
+
+
+class _Lines(io.TextIOBase):
+    """A stream writing whole lines to ``emit`` with the real streams back in place (``emit``
+    may be the real ``print``)."""
+
+    def __init__(self, emit: Callable[[str], None], real: tuple[TextIO, TextIO]) -> None:
+        super().__init__()
+        self._emit = emit
+        self._real = real
+        self._pending = ""
+
+    def write(self, text: str) -> int:
+        self._pending += text
+        *lines, self._pending = self._pending.split("\n")
+        for line in lines:
+            self._send(line)
+        return len(text)
+
+    def _send(self, line: str) -> None:
+        swapped = sys.stdout, sys.stderr
+        sys.stdout, sys.stderr = self._real
+        try:
+            self._emit(line)
+        finally:
+            sys.stdout, sys.stderr = swapped
+
+    def close_lines(self) -> None:
+        if self._pending:
+            self._send(self._pending)
+            self._pending = ""
+
+
+@contextmanager
+def _script_streams(ctx: ToolContext) -> Iterator[None]:
+    """While a node starts, what its script writes to the process's streams (its prints and its
+    traceback before ``rospy.init_node``: it has no node to print through yet) is the command's
+    output and errors, as rosrun shows a script's own output."""
+    real = sys.stdout, sys.stderr
+    out, err = _Lines(ctx.print, real), _Lines(ctx.eprint, real)
+    sys.stdout, sys.stderr = out, err  # type: ignore[assignment]
+    try:
+        yield
+    finally:
+        sys.stdout, sys.stderr = real
+        out.close_lines()
+        err.close_lines()
 
 
 def _exit_code(world: World, name: str) -> int:

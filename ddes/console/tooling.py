@@ -57,6 +57,7 @@ TOOL_MODULES: tuple[str, ...] = (
     "ddes.console.rospack",
     "ddes.console.rosrun",
     "ddes.console.rosservice",
+    "ddes.console.rostest",
     "ddes.console.rostopic",
     "ddes.console.viz",
 )

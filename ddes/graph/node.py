@@ -56,7 +56,14 @@ if TYPE_CHECKING:
     from simpy.events import ProcessGenerator
     from typing_extensions import Unpack
 
-    from ddes.graph.topics import Publisher, PublisherOptions, Subscriber, SubscriberOptions
+    from ddes.graph.topics import (
+        Publication,
+        Publisher,
+        PublisherOptions,
+        Subscriber,
+        SubscriberOptions,
+        Subscription,
+    )
     from ddes.graph.world import World
     from ddes.msg.message import MessageClass, MessageLike
 
@@ -163,10 +170,14 @@ class Node:
         self._entities: list[Entity] = []
         self._published: list[Publisher[MessageClass]] = []
         self._subscribed: list[Subscriber[MessageClass]] = []
-        #: rospy's per-topic publisher sequence counters (``_PublisherImpl.seq``), by topic.
-        self._pub_seq: dict[str, list[int]] = {}
+        #: What the node's Publishers (Subscribers) of one topic share, by topic: rospy's
+        #: ``_PublisherImpl`` (``_SubscriberImpl``), one per node and topic.
+        self._pub_impls: dict[str, Publication] = {}
+        self._sub_impls: dict[str, Subscription] = {}
         self._shutdown = False
+        self._in_shutdown = False
         self._shutdown_hooks: list[Callable[[str], object]] = []
+        self._preshutdown_hooks: list[Callable[[], object]] = []
         self._shutdown_event: simpy.Event | None = None
         #: The node's callback queue and spinner (:mod:`ddes.graph.callbacks`).
         self.callbacks = CallbackQueue(self, spinner)
@@ -214,8 +225,18 @@ class Node:
         return self._shutdown
 
     def on_shutdown(self, hook: Callable[[str], object]) -> None:
-        """Call ``hook(reason)`` when the node shuts down (rospy.on_shutdown)."""
+        """Call ``hook(reason)`` when the node has shut down (its entities are gone)."""
         self._shutdown_hooks.append(hook)
+
+    def on_preshutdown(self, hook: Callable[[], object]) -> None:
+        """Call ``hook()`` when the node starts to shut down, before anything stops: rospy's
+        ``on_shutdown`` (client hooks), which may still publish (the message is delivered) and
+        see :meth:`is_shutdown` False and :meth:`is_shutdown_requested` True, as in rospy."""
+        self._preshutdown_hooks.append(hook)
+
+    def is_shutdown_requested(self) -> bool:
+        """True from the start of the shutdown (rospy.core.is_shutdown_requested)."""
+        return self._in_shutdown or self._shutdown
 
     def signal_shutdown(self, reason: str) -> None:
         """rospy.signal_shutdown: shut this node down."""
@@ -223,8 +244,16 @@ class Node:
 
     def shutdown(self, reason: str = "") -> None:
         """Shut the node down: its entities stop and it leaves the world."""
-        if self._shutdown:
+        if self._shutdown or self._in_shutdown:
             return
+        self._in_shutdown = True
+        failed: list[tuple[Callable[[], object], Exception]] = []
+        hooks, self._preshutdown_hooks = self._preshutdown_hooks, []
+        for pre in hooks:  # rospy's client hooks: before the shutdown flag, everything alive
+            try:
+                pre()
+            except Exception as exc:  # noqa: BLE001 - reported once the node is down, as rospy
+                failed.append((pre, exc))
         self._shutdown = True
         self.callbacks.close()
         for ent in reversed(list(self._entities)):
@@ -236,6 +265,8 @@ class Node:
             hook(reason)
         if self._shutdown_event is not None and not self._shutdown_event.triggered:
             self._shutdown_event.succeed(reason)
+        for pre, error in failed:
+            self.callbacks.report_error(pre, error)
 
     def shutdown_request(self, caller_id: str, msg: str = "") -> None:
         """The slave API's ``shutdown(caller_id, msg)``: what rosmaster and ``rosnode kill`` call.

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import logging
 import sys
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesValueError
 from ddes.kernel.trace import scrub_addresses
@@ -182,8 +182,13 @@ class NodeLogger:
         self.level = level_from(level)
 
     def log(self, level: int, msg: object, args: tuple[object, ...], depth: int = 2,
-            throttle: DurationLike | None = None, once: bool = False) -> None:
-        """Log one line (see module docstring); ``depth`` finds the caller."""
+            throttle: DurationLike | None = None, once: bool = False,
+            qualify: bool = False) -> None:
+        """Log one line (see module docstring); ``depth`` finds the caller.
+
+        ``qualify`` names the caller on ``/rosout`` as rospy's logger does
+        (``rosgraph.roslogging.RospyLogger.findCaller``): ``Class.method`` when the calling
+        frame has a ``self``, else the function's name (``<module>`` at module level)."""
         if level < self.level:
             return
         frame = sys._getframe(depth)
@@ -218,7 +223,7 @@ class NodeLogger:
             m.name = node.name
             m.msg = text
             m.file = frame.f_code.co_filename.rsplit("/", 1)[-1]
-            m.function = frame.f_code.co_name
+            m.function = _qualified(frame) if qualify else frame.f_code.co_name
             m.line = frame.f_lineno
             m.topics = [p.resolved_name for p in node._published]
             self._pub.publish(m)
@@ -230,3 +235,13 @@ class NodeLogger:
             line = format_line(level, text, wall, ros)
         emit_line(node, level, text, line,
                   where=(frame.f_code.co_filename, frame.f_lineno, frame.f_code.co_name))
+
+
+def _qualified(frame: Any) -> str:
+    """rospy's function name of a log call: ``Class.method`` when ``frame`` has a ``self``."""
+    name: str = frame.f_code.co_name
+    try:
+        this = frame.f_locals["self"]
+    except KeyError:  # a plain function (or a module): no class to name
+        return name
+    return f"{this.__class__.__name__}.{name}"

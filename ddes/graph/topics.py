@@ -21,6 +21,19 @@ Connections appear ``world.connect_delay`` after both ends exist (default
 1 ms, the order of a ROS connection handshake); messages published before
 that are not delivered to that subscriber, as in ROS (ros_comm#176).  A
 latched publisher sends its last message on every new connection.
+
+One topic, one set of connections per node (rospy's ``_TopicManager``, roscpp's
+``TopicManager``): the Publishers a node makes on one topic share a
+:class:`Publication` (connections, ``seq``, latch, connection headers,
+subscriber listeners), and its Subscribers of one topic a :class:`Subscription`
+(connections, each message decoded once for all of them).  A second Publisher
+sends on the connections the first one has, so a message published right after
+creating it is delivered; a second Subscriber hears the next message at once and
+is handed the latched message of each latched connection in the instant it is
+made (rospy #1852).  The master knows one publisher and one subscriber per node and
+topic: the first live handle of each.  A message already sent when its
+publisher goes away still arrives (TCP delivers what was written before the
+close); one in flight to a subscriber that went away is lost.
 """
 
 from __future__ import annotations
@@ -36,6 +49,7 @@ from ddes.errors import (
     DdesValueError,
     ROSException,
     ROSSerializationException,
+    ROSTopicException,
 )
 from ddes.kernel.events import post
 from ddes.msg.anymsg import AnyMsg
@@ -55,10 +69,12 @@ __all__ = [
     "Connection",
     "LinkLatency",
     "LinkModel",
+    "Publication",
     "Publisher",
     "PublisherOptions",
     "Subscriber",
     "SubscriberOptions",
+    "Subscription",
     "args_kwds_to_message",
     "connect_later",
     "disconnect",
@@ -150,7 +166,7 @@ class Connection:
 
     __slots__ = ("pub", "sub", "id", "world", "_fixed", "_draw", "_loss", "_rng", "_last",
                  "_sent", "_seq0", "lost", "received", "dropped", "delivered", "closed", "header",
-                 "batchable", "pub_name")
+                 "batchable", "pub_name", "latching", "last", "recv_bytes")
 
     _draw: Callable[[random.Random], DurationLike] | None
     _loss: float
@@ -178,6 +194,17 @@ class Connection:
             "topic": pub.resolved_name,
             "type": pub.type,
         }
+        extra = pub._pub.headers
+        if extra:  # Publisher(headers=...): rospy's TCPROSPub lets them override its own fields
+            self.header.update(extra)
+        #: The publisher latches (the header says so): the subscriber keeps the last message.
+        self.latching = self.header.get("latching") == "1"
+        #: ``(data, seq)`` of the last message received on a latching connection (rospy's
+        #: ``connection.latch``, handed to a Subscriber that joins the subscription).
+        self.last: tuple[bytes, int] | None = None
+        #: Bytes the subscriber's transport counted (its handshake header and each message
+        #: with its length prefix), as rospy's ``stat_bytes`` (topic statistics).
+        self.recv_bytes = 0
         self._fixed, self._draw, self._loss = 0, None, 0.0
         self.set_link(link)
         self.batchable = self._draw is None and not self._loss
@@ -232,11 +259,14 @@ def _arrive_batch(ev: Posted[tuple[bytes, int, list[Connection]]]) -> None:
     data, seq, conns = ev.payload
     now = ev.at_ns
     for conn in conns:
-        if conn.closed:
+        sub = conn.sub
+        if sub._closed:  # the subscription went away: lost with its connection
             continue
         conn.received += 1
-        sub = conn.sub
-        if sub._closed:
+        if conn.latching:
+            conn.last = (data, seq)
+        if sub._slow:
+            _arrive_shared(sub._sub, conn, data, seq, now)
             continue
         if sub._any:
             msg: MessageLike = AnyMsg(data, dict(conn.header))
@@ -258,12 +288,64 @@ def _arrive_batch(ev: Posted[tuple[bytes, int, list[Connection]]]) -> None:
         sub._enqueue(conn, msg, seq)
 
 
-class Publisher(Generic[_C_co]):
-    """``Publisher(node, name, data_class, queue_size=None, latch=False)`` (rospy.Publisher)."""
+class Publication:
+    """What a node's Publishers of one topic share (rospy's ``_PublisherImpl``, one per node and
+    topic): the connections, ``seq``, the latch, the connection headers and the subscriber
+    listeners.  ``handles`` are the live Publishers, oldest first; the first is the one the
+    master and the connections know."""
 
-    __slots__ = ("_closed", "data_class", "published", "_roscpp", "_nconn", "_seqbox",
+    __slots__ = ("handles", "connections", "count", "seqbox", "latch", "latched", "latched_seq",
+                 "headers", "listeners", "closed")
+
+    def __init__(self) -> None:
+        self.handles: list[Publisher[MessageClass]] = []
+        #: The open connections (every handle's ``connections`` is this list).
+        self.connections: list[Connection] = []
+        #: ``[n]``: messages published through any handle (every ``publish()`` call).
+        self.count = [0]
+        #: ``[seq]``: rospy's ``_PublisherImpl.seq``, messages sent on the topic by the node.
+        self.seqbox = [0]
+        self.latch = False
+        self.latched: bytes | None = None
+        self.latched_seq = 0
+        #: Extra connection header fields (``Publisher(headers=...)``, later ones win).
+        self.headers: dict[str, str] = {}
+        #: ``rospy.SubscribeListener``s: ``peer_subscribe``/``peer_unsubscribe`` per connection.
+        self.listeners: list[Any] = []
+        self.closed = False
+
+
+class Subscription:
+    """What a node's Subscribers of one topic share (rospy's ``_SubscriberImpl``): the
+    connections, each message decoded once for every handle, and the topic statistics of
+    ``/enable_statistics``.  ``handles`` are the live Subscribers, oldest first."""
+
+    __slots__ = ("handles", "connections", "stats", "closed")
+
+    def __init__(self) -> None:
+        self.handles: list[Subscriber[MessageClass]] = []
+        #: The open connections (every handle's ``connections`` is this list).
+        self.connections: list[Connection] = []
+        #: rospy's ``SubscriberStatisticsLogger`` when ``/enable_statistics`` was set at the
+        #: subscription's start (:mod:`ddes.graph.statistics`), else None.
+        self.stats: Any = None
+        self.closed = False
+
+
+class Publisher(Generic[_C_co]):
+    """``Publisher(node, name, data_class, queue_size=None, latch=False)`` (rospy.Publisher).
+
+    A Publisher made on a topic its node already publishes joins that topic's
+    :class:`Publication`: it publishes on the connections already open, with the same
+    ``seq``; ``latch=True`` latches the topic, ``headers`` add to the connection headers
+    of connections made from now on, and ``subscriber_listener`` (a ``rospy.SubscribeListener``)
+    hears of each connection: ``peer_subscribe(topic, topic_publish, peer_publish)`` when a
+    subscriber connects, ``peer_unsubscribe(topic, num_peers)`` when one goes away.
+    """
+
+    __slots__ = ("_closed", "data_class", "_count", "_roscpp", "_nconn", "_seqbox",
                  "_has_header", "latch", "_env", "_trace", "_node_name", "resolved_name",
-                 "_fanout", "_single", "_latched", "_latched_seq", "node", "world", "name", "type",
+                 "_fanout", "_single", "_pub", "node", "world", "name", "type",
                  "md5sum", "queue_size", "headers", "connections")
 
     def __init__(
@@ -296,17 +378,20 @@ class Publisher(Generic[_C_co]):
         self.data_class = data_class
         self.type: str = data_class._type
         self.md5sum: str = data_class._md5sum
-        self.latch = bool(latch)
+        impl = node._pub_impls.get(self.resolved_name)
+        first = impl is None
+        if impl is None:
+            impl = Publication()
+        else:
+            _check_same_type(impl.handles[0], self, "Publisher")
+        self._pub = impl
         self.queue_size = queue_size
         self.headers = dict(headers or {})
-        #: Messages published by this object (every ``publish()`` call).
-        self.published = 0
         # rospy's _PublisherImpl.seq: one counter per node and topic, shared by every
         # Publisher of that topic in the node, counting messages actually sent.
-        self._seqbox: list[int] = node._pub_seq.setdefault(self.resolved_name, [0])
-        self.connections: list[Connection] = []
-        self._latched: bytes | None = None
-        self._latched_seq = 0
+        self._seqbox = impl.seqbox
+        self._count = impl.count
+        self.connections: list[Connection] = impl.connections
         #: header.seq counted as roscpp counts it (a node with client_library "roscpp").
         self._roscpp = node.client_library == "roscpp"
         self._closed = False
@@ -325,11 +410,34 @@ class Publisher(Generic[_C_co]):
             self.world.record("warning", node.name, topic=self.resolved_name,
                               text="The publisher should be created with an explicit keyword "
                                    "argument 'queue_size'.")
+        if first:
+            self.latch = bool(latch)
+            impl.latch = self.latch
+            self.world.master.register_publisher(self)  # raises on a type conflict
+            node._pub_impls[self.resolved_name] = impl
+            node._published.append(self)
+        else:
+            other = impl.handles[0]
+            self._fanout, self._single, self._nconn = other._fanout, other._single, other._nconn
+            if latch and not impl.latch:  # rospy's enable_latch: the topic latches from now on
+                impl.latch = True
+                for h in impl.handles:
+                    h.latch = True
+            self.latch = impl.latch
+        impl.handles.append(self)
+        if headers:
+            impl.headers.update(headers)
+        if subscriber_listener:
+            impl.listeners.append(subscriber_listener)
         node.add_entity(self)
-        node._published.append(self)
-        self.world.master.register_publisher(self)
         self.world.record("topic.advertise", node.name, topic=self.resolved_name, type=self.type,
                           latch=self.latch)
+
+    @property
+    def published(self) -> int:
+        """Messages published on this topic by the node's Publishers (every ``publish()``
+        call; the Publishers of one topic in a node count together)."""
+        return self._count[0]
 
     @property
     def seq(self) -> int:
@@ -362,7 +470,7 @@ class Publisher(Generic[_C_co]):
             msg: Any = args[0]  # a data_class instance: a Message, with a header if _has_header
         else:
             msg = args_kwds_to_message(self.data_class, args, kwds)
-        self.published += 1
+        self._count[0] += 1
         roscpp = self._roscpp
         if self._nconn or roscpp:
             box = self._seqbox
@@ -378,8 +486,9 @@ class Publisher(Generic[_C_co]):
         if roscpp and self._has_header:
             data = _with_seq(data, seq)
         if self.latch:
-            self._latched = data
-            self._latched_seq = seq
+            impl = self._pub
+            impl.latched = data
+            impl.latched_seq = seq
         env = self._env
         self._trace.append_row((env.now_ns, "topic.publish", self._node_name, _PUB_KEYS,
                                 self.resolved_name, seq, self._nconn, data))
@@ -388,8 +497,30 @@ class Publisher(Generic[_C_co]):
         for conn in self._single:
             conn.send(data, seq)
 
+    def _publish_to(self, conn: Connection, message: Any) -> None:
+        """Publish ``message`` on ``conn`` only (a SubscribeListener's ``peer_publish``)."""
+        if self._pub.closed or conn.closed:
+            return
+        msg: Any = args_kwds_to_message(self.data_class, (message,), {})
+        box = self._seqbox
+        seq = box[0] = box[0] + 1
+        if self._has_header and not self._roscpp:
+            msg.header.seq = seq
+        try:
+            data = msg._serialize_to_bytes()
+        except Exception:  # noqa: BLE001 - re-done with the checks that name the bad field
+            data = _serialize_checked(msg)
+        if self._roscpp and self._has_header:
+            data = _with_seq(data, seq)
+        if self.latch:
+            self._pub.latched, self._pub.latched_seq = data, seq
+        self._trace.append_row((self._env.now_ns, "topic.publish", self._node_name, _PUB_KEYS,
+                                self.resolved_name, seq, 1, data))
+        conn.send(data, seq)
+
     def _rebuild_fanout(self) -> None:
-        """Group batchable connections by latency (one kernel event per group)."""
+        """Group batchable connections by latency (one kernel event per group), for every
+        Publisher of the topic in the node."""
         groups: dict[int, list[Connection]] = {}
         single: list[Connection] = []
         for conn in self.connections:
@@ -399,41 +530,112 @@ class Publisher(Generic[_C_co]):
                 single.append(conn)
         # A group of one connection arrives through its subscriber's _arrive_one (one Python
         # call fewer per message), a larger one through _arrive_batch.
-        self._fanout = tuple([(delay, conns[0], conns[0].sub._arrive_one) if len(conns) == 1
-                              else (delay, conns, _arrive_batch)
-                              for delay, conns in groups.items()])
-        self._single = tuple(single)
-        self._nconn = len(self.connections)
+        fanout = tuple([(delay, conns[0], conns[0].sub._arrive_one) if len(conns) == 1
+                        else (delay, conns, _arrive_batch)
+                        for delay, conns in groups.items()])
+        singles = tuple(single)
+        n = len(self.connections)
+        for h in self._pub.handles or (self,):
+            h._fanout, h._single, h._nconn = fanout, singles, n
 
     def get_num_connections(self) -> int:
         """Number of live subscriber connections."""
         return len(self.connections)
 
     def unregister(self) -> None:
-        """Stop publishing; connections close."""
+        """Stop publishing; connections close with the topic's last Publisher in the node."""
         if self._closed:
             return
         self._closed = True
+        impl = self._pub
+        node = self.node
+        if self in impl.handles:
+            impl.handles.remove(self)
+        node.remove_entity(self)
+        if impl.handles:  # the node's other Publishers of the topic keep its connections
+            _hand_over(node._published, self, impl.handles[0], self.world.master.topics)
+            for conn in impl.connections:
+                if conn.pub is self:
+                    conn.pub = impl.handles[0]
+            self.world.record("topic.unadvertise", node.name, topic=self.resolved_name)
+            return
+        impl.closed = True
         for conn in list(self.connections):
             disconnect(conn)
         self.world.master.unregister_publisher(self)
-        self.node.remove_entity(self)
-        if self in self.node._published:
-            self.node._published.remove(self)
-        if not any(p.resolved_name == self.resolved_name for p in self.node._published):
+        if self in node._published:
+            node._published.remove(self)
+        if node._pub_impls.get(self.resolved_name) is impl:
             # rospy releases the topic's impl with its last Publisher: the count restarts
-            self.node._pub_seq.pop(self.resolved_name, None)
-        self.world.record("topic.unadvertise", self.node.name, topic=self.resolved_name)
+            del node._pub_impls[self.resolved_name]
+        self.world.record("topic.unadvertise", node.name, topic=self.resolved_name)
 
     shutdown = unregister
 
 
+def _check_same_type(first: Any, new: Any, what: str) -> None:
+    """A second Publisher (Subscriber) of a topic in one node uses the first one's type."""
+    if "*" in (first.type, new.type) or (first.type, first.md5sum) == (new.type, new.md5sum):
+        return
+    raise ROSTopicException(
+        f"{what} of [{new.node.name}] wants topic {new.resolved_name} to have datatype/md5sum "
+        f"[{new.type}/{new.md5sum}], but it already has [{first.type}/{first.md5sum}] in this "
+        "node: use the same message type, or another topic name")
+
+
+def _hand_over(own: list[Any], old: Any, new: Any, topics: dict[str, Any]) -> None:
+    """``old`` left its topic's publication (subscription) and ``new`` now stands for it: in
+    the node's list ``own`` and in the master's entry, at ``old``'s place."""
+    if old in own:
+        own[own.index(old)] = new
+    entry = topics.get(old.resolved_name)
+    if entry is not None:
+        for registry in (entry.publishers, entry.subscribers):
+            if old in registry:
+                registry[registry.index(old)] = new
+
+
+def _decode(sub: Subscriber[MessageClass], conn: Connection, data: bytes) -> MessageLike:
+    """The message ``sub`` hears from ``data`` (its own copy, as TCPROS deserializes)."""
+    if sub._any:
+        return AnyMsg(data, dict(conn.header))
+    msg: Any = _new(sub.data_class)._deserialize_from(data)
+    msg._connection_header = conn.header  # as rospy sets it
+    return msg  # type: ignore[no-any-return]
+
+
+def _arrive_shared(impl: Subscription, conn: Connection, data: bytes, seq: int, now: int) -> None:
+    """An arrival for a subscription of several Subscribers (or with topic statistics): decoded
+    once per data class, statistics first, then each Subscriber in the order they were made
+    (rospy's ``_SubscriberImpl.receive_callback``)."""
+    decoded: dict[Any, MessageLike] = {}
+    stats = impl.stats
+    for sub in tuple(impl.handles):
+        if sub._closed:
+            continue
+        cls = sub.data_class
+        msg = decoded.get(cls)
+        if msg is None:
+            msg = decoded[cls] = _decode(sub, conn, data)
+        if stats is not None:
+            stats.arrived(conn, msg, len(data))
+            stats = None
+        sub._deliver(conn, msg, seq, now)
+
+
 class Subscriber(Generic[_C_co]):
-    """``Subscriber(node, name, data_class, callback, callback_args, queue_size)`` (rospy)."""
+    """``Subscriber(node, name, data_class, callback, callback_args, queue_size)`` (rospy).
+
+    The Subscribers of one topic in a node share its :class:`Subscription`: one connection
+    per publisher; a Subscriber made while the subscription has connections hears the next
+    message at once, and the latched message of each latching connection in the instant it is
+    made (rospy #1852; rospy hands it over inside the constructor, ddes just after it).  Each keeps its own callback, queue and callback thread.
+    """
 
     __slots__ = ("_closed", "_any", "data_class", "_cbq", "_internal", "_queue", "cb_active",
                  "_trace", "_node_name", "resolved_name", "callback", "callback_args", "_env",
-                 "queue_size", "node", "world", "name", "type", "md5sum", "connections")
+                 "queue_size", "node", "world", "name", "type", "md5sum", "connections",
+                 "_sub", "_slow")
 
     def __init__(
         self,
@@ -473,21 +675,49 @@ class Subscriber(Generic[_C_co]):
         self.callback = callback
         self.callback_args = callback_args
         self.queue_size = queue_size
-        self.connections: list[Connection] = []
+        impl = node._sub_impls.get(self.resolved_name)
+        first = impl is None
+        if impl is None:
+            impl = Subscription()
+        else:
+            _check_same_type(impl.handles[0], self, "Client")
+        self._sub = impl
+        self.connections: list[Connection] = impl.connections
         self._queue: deque[tuple[Connection, MessageLike, int]] = deque()
         self._closed = False
         self._internal = internal
         self._any = data_class is AnyMsg
+        self._slow = False
         #: True while a callback of this subscription runs (the node's runner sets it).
         self.cb_active = False
         self._cbq = node.callbacks
         self._node_name = node.name
         self._env = node.world.env
         self._trace = node.world.trace
+        if first:
+            self.world.master.register_subscriber(self)  # raises on a type conflict
+            node._sub_impls[self.resolved_name] = impl
+            node._subscribed.append(self)
+            from ddes.graph.statistics import statistics_for
+
+            impl.stats = statistics_for(self)
+        impl.handles.append(self)
+        _update_slow(impl)
         node.add_entity(self)
-        node._subscribed.append(self)
-        self.world.master.register_subscriber(self)
         self.world.record("topic.subscribe", node.name, topic=self.resolved_name, type=self.type)
+        if not first:  # rospy #1852: the latched message of each connection, at once
+            latched = [(conn, conn.last) for conn in impl.connections if conn.last is not None]
+            if latched:
+                post(self._env, 0, latched, self._deliver_latched)
+
+    def _deliver_latched(self, ev: Posted[list[tuple[Connection, tuple[bytes, int]]]]) -> None:
+        """The latched messages a Subscriber joining a subscription is handed, in the instant
+        it was made (rospy hands them over inside its constructor; here just after it, so the
+        code that made it holds it when its callback runs)."""
+        for conn, (data, seq) in ev.payload:
+            if self._closed:
+                return
+            self._deliver(conn, _decode(self, conn, data), seq, ev.at_ns)
 
     def _arrive_one(self, ev: Posted[tuple[bytes, int, Connection]]) -> None:
         """The arrival of a message on one connection: a batched publish's group of one (the
@@ -495,22 +725,42 @@ class Subscriber(Generic[_C_co]):
         latency, loss).  ``_arrive_batch`` does the same per connection of a larger group;
         keep the two step for step the same (tests/graph compare the paths)."""
         data, seq, conn = ev.payload
-        if conn.closed:
+        sub = conn.sub  # the subscription's first live Subscriber (self, unless self left it)
+        if sub._closed:  # the subscription went away: lost with its connection
             return
         conn.received += 1
-        if self._closed:
+        if conn.latching:
+            conn.last = (data, seq)
+        if sub._slow:
+            _arrive_shared(sub._sub, conn, data, seq, ev.at_ns)
             return
-        if self._any:
+        if sub._any:
             msg: MessageLike = AnyMsg(data, dict(conn.header))
         else:
-            cls = self.data_class
-            msg = _new(cls)._deserialize_from(data)
+            msg = _new(sub.data_class)._deserialize_from(data)
             msg._connection_header = conn.header  # type: ignore[attr-defined]  # as rospy sets it
+        cbq = sub._cbq
+        if sub._internal or (cbq.free and not sub._queue and not sub.cb_active):
+            conn.delivered += 1
+            sub._trace.append_row((ev.at_ns, "topic.deliver", sub._node_name,
+                                   _DELIVER_KEYS, sub.resolved_name, conn.pub_name, seq))
+            cb = sub.callback
+            if cb is not None:
+                if sub.callback_args is None:
+                    cbq.run1(cb, msg, sub)
+                else:
+                    cbq.run(cb, (msg, sub.callback_args), sub)
+            return
+        sub._enqueue(conn, msg, seq)
+
+    def _deliver(self, conn: Connection, msg: MessageLike, seq: int, now: int) -> None:
+        """Hand ``msg`` to this Subscriber: its callback now if the spinner is free for it,
+        else its queue (the steps of :meth:`_arrive_one` after decoding)."""
         cbq = self._cbq
         if self._internal or (cbq.free and not self._queue and not self.cb_active):
             conn.delivered += 1
-            self._trace.append_row((ev.at_ns, "topic.deliver", self._node_name,
-                                    _DELIVER_KEYS, self.resolved_name, conn.pub_name, seq))
+            self._trace.append_row((now, "topic.deliver", self._node_name, _DELIVER_KEYS,
+                                    self.resolved_name, conn.pub_name, seq))
             cb = self.callback
             if cb is not None:
                 if self.callback_args is None:
@@ -551,20 +801,51 @@ class Subscriber(Generic[_C_co]):
         return len(self.connections)
 
     def unregister(self) -> None:
-        """Stop receiving; queued messages are discarded."""
+        """Stop receiving; queued messages are discarded.  Connections close with the topic's
+        last Subscriber in the node."""
         if self._closed:
             return
         self._closed = True
+        self._queue.clear()
+        impl = self._sub
+        node = self.node
+        if self in impl.handles:
+            impl.handles.remove(self)
+        node.remove_entity(self)
+        if impl.handles:  # the node's other Subscribers of the topic keep its connections
+            new = impl.handles[0]
+            _hand_over(node._subscribed, self, new, self.world.master.topics)
+            pubs: list[Publisher[MessageClass]] = []
+            for conn in impl.connections:
+                if conn.sub is self:
+                    conn.sub = new
+                    if conn.pub not in pubs:
+                        pubs.append(conn.pub)
+            for pub in pubs:  # their fanouts name the subscriber's arrival method
+                pub._rebuild_fanout()
+            _update_slow(impl)
+            self.world.record("topic.unsubscribe", node.name, topic=self.resolved_name)
+            return
+        impl.closed = True
         for conn in list(self.connections):
             disconnect(conn)
-        self._queue.clear()
+        if impl.stats is not None:
+            impl.stats.shutdown()
         self.world.master.unregister_subscriber(self)
-        self.node.remove_entity(self)
-        if self in self.node._subscribed:
-            self.node._subscribed.remove(self)
-        self.world.record("topic.unsubscribe", self.node.name, topic=self.resolved_name)
+        if self in node._subscribed:
+            node._subscribed.remove(self)
+        if node._sub_impls.get(self.resolved_name) is impl:
+            del node._sub_impls[self.resolved_name]
+        self.world.record("topic.unsubscribe", node.name, topic=self.resolved_name)
 
     shutdown = unregister
+
+
+def _update_slow(impl: Subscription) -> None:
+    """Arrivals take :func:`_arrive_shared` for several Subscribers or topic statistics."""
+    slow = len(impl.handles) > 1 or impl.stats is not None
+    for sub in impl.handles:
+        sub._slow = slow
 
 
 def _check_data_class(data_class: object, name: str) -> None:
@@ -593,24 +874,34 @@ def _serialize_checked(msg: Message) -> bytes:
 
 def connect_later(world: World, pub: Publisher[MessageClass], sub: Subscriber[MessageClass],
                   delay_ns: int) -> None:
-    """Connect ``pub`` to ``sub`` after ``delay_ns`` (the ROS connection handshake)."""
+    """Connect ``pub``'s publication to ``sub``'s subscription after ``delay_ns`` (the ROS
+    connection handshake)."""
+    pub_impl, sub_impl = pub._pub, sub._sub
+
     def connect(_ev: Timeout) -> None:
-        if pub._closed or sub._closed:
+        if pub_impl.closed or sub_impl.closed or not pub_impl.handles or not sub_impl.handles:
             return
-        conn = Connection(world, pub, sub, world.link_for(pub, sub))
-        pub.connections.append(conn)
-        sub.connections.append(conn)
-        pub._rebuild_fanout()
-        world.record("topic.connect", sub.node.name, topic=pub.resolved_name,
-                     publisher=pub.node.name, connection=conn.id)
-        if pub.latch and pub._latched is not None:
-            if pub._roscpp:  # roscpp sends the latched bytes as they were
-                conn.send(pub._latched, pub._latched_seq)
+        p, s = pub_impl.handles[0], sub_impl.handles[0]  # who stands for each now
+        conn = Connection(world, p, s, world.link_for(p, s))
+        p.connections.append(conn)
+        s.connections.append(conn)
+        p._rebuild_fanout()
+        if sub_impl.stats is not None:
+            conn.recv_bytes = sub_impl.stats.handshake_bytes(s)
+        world.record("topic.connect", s.node.name, topic=p.resolved_name,
+                     publisher=p.node.name, connection=conn.id)
+        for listener in list(pub_impl.listeners):  # rospy's add_connection: before the latch
+            p.node.callbacks.invoke(listener.peer_subscribe,
+                                    (p.resolved_name, p.publish,
+                                     lambda message, _c=conn: p._publish_to(_c, message)))
+        if pub_impl.latch and pub_impl.latched is not None:
+            latched = pub_impl.latched
+            if p._roscpp:  # roscpp sends the latched bytes as they were
+                conn.send(latched, pub_impl.latched_seq)
             else:  # rospy publishes the latched message again on the connection: a new seq
-                box = pub._seqbox
+                box = p._seqbox
                 seq = box[0] = box[0] + 1
-                conn.send(_with_seq(pub._latched, seq) if pub._has_header else pub._latched,
-                          seq)
+                conn.send(_with_seq(latched, seq) if p._has_header else latched, seq)
 
     post(world.env, delay_ns, None, connect)
 
@@ -635,3 +926,7 @@ def disconnect(conn: Connection) -> None:
         conn.sub.connections.remove(conn)
     conn.world.record("topic.disconnect", conn.sub.node.name, topic=conn.pub.resolved_name,
                       publisher=conn.pub.node.name, connection=conn.id)
+    pub = conn.pub
+    left = len(pub.connections)
+    for listener in list(pub._pub.listeners):  # rospy's remove_connection
+        pub.node.callbacks.invoke(listener.peer_unsubscribe, (pub.resolved_name, left))

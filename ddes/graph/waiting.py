@@ -24,7 +24,9 @@ def wait_for_message(node: Node, topic: str, data_class: type[MessageLike] = REQ
     A temporary subscriber is created and removed once a message arrives.
     With ``timeout`` (ROS time of the node) the event fails with
     ``ROSException("timeout exceeded while waiting for message on topic ...")``,
-    rospy's text.
+    rospy's text (the topic as given, not resolved).  A subscription the node already has
+    on the topic is shared (rospy's one subscription per topic and node): the next message
+    it hears, or its latched one at once.
     """
     from ddes.graph.topics import Subscriber
 
@@ -42,14 +44,20 @@ def wait_for_message(node: Node, topic: str, data_class: type[MessageLike] = REQ
 
     env = node.world.env
     result = env.event()
-    resolved = node.resolve_name(topic)
+    made: list[Subscriber[type[MessageLike]]] = []
 
     def got(msg: MessageLike) -> None:
         if not result.triggered:
-            sub.unregister()
+            if made:
+                made[0].unregister()
             result.succeed(msg)
 
+    # a latched message of a subscription the node already has arrives in the constructor
     sub = Subscriber(node, topic, data_class, got, queue_size=1, internal=True)
+    made.append(sub)
+    if result.triggered:
+        sub.unregister()
+        return result
     if timeout is not None:
         ns = duration_to_ns(timeout, "timeout")
         start = node.clock.now_ns()
@@ -58,8 +66,8 @@ def wait_for_message(node: Node, topic: str, data_class: type[MessageLike] = REQ
         def expire(_ev: simpy.Event) -> None:
             if not result.triggered:
                 sub.unregister()
-                result.fail(ROSException(
-                    f"timeout exceeded while waiting for message on topic {resolved}"))
+                result.fail(ROSException(  # rospy's text names the topic as given
+                    f"timeout exceeded while waiting for message on topic {topic}"))
 
         expiry.callbacks.append(expire)
     return result

@@ -148,6 +148,9 @@ _ALL: tuple[TraceKind, ...] = (
     _k("action.server.start", "ns type status_frequency status_list_timeout", "actionlib",
        "An action server started (action type, status rate in Hz, status_list_timeout)."),
     _k("action.server.stop", "ns", "actionlib", "An action server stopped."),
+    _k("action.server.status_list_del", "ns id status", "actionlib",
+       "A script deleted a goal from actionlib's ActionServer.status_list (the goal is gone "
+       "from the status; its client sees it LOST), as actionlib's tests do."),
     _k("action.server.goal", "ns id stamp arrival", "actionlib",
        "A goal message arrived: arrival new, canceled_by_stamp, duplicate or "
        "duplicate_recalled."),

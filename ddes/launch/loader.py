@@ -24,12 +24,13 @@ import random
 import shlex
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from dataclasses import fields
 
 from ddes.errors import DdesValueError, ResourceLimitError, ROSLaunchException
 from ddes.graph.names import canonicalize_name, get_ros_namespace, is_legal_name
 from ddes.graph.yamlsafe import read_bounded
 from ddes.launch.params import ParamLoader
-from ddes.launch.plan import LaunchPlan, NodeSpec
+from ddes.launch.plan import TEST_TIME_LIMIT_DEFAULT, LaunchPlan, NodeSpec, TestSpec
 from ddes.launch.scope import Scope
 from ddes.launch.substitution import (
     CostlyLaunchExpression,
@@ -394,7 +395,7 @@ class _Loader:
             self.check_attrs(el, _TEST_ATTRS if is_test else _NODE_ATTRS)
             if is_test:
                 given = self.opt(el, scope, "name")  # resolved first, as roslaunch does
-                test_name = self.test_attrs(el, scope)
+                test_name, time_limit, retry = self.test_attrs(el, scope)
                 name = given or test_name
             else:
                 name = self.req(el, scope, "name")
@@ -448,14 +449,21 @@ class _Loader:
                 self.params.add(param_scope.ns + (key[1:] if key.startswith("~") else key),
                                 value)
             self.params.sink = None
-            if is_test:
-                self.plan.warnings.append(
-                    f"<test test-name=\"{el.attrs.get('test-name', '')}\"> ignored: tests run "
-                    "under rostest, not roslaunch (its parameters were set)"
-                )
-                return
             spec = self.node_spec(el, scope, o, pkg, node_type, name, child.ns,
                                   respawn, respawn_delay, required)
+            if is_test:
+                warning = (f"<test test-name=\"{el.attrs.get('test-name', '')}\"> ignored: "
+                           "tests run under rostest, not roslaunch (its parameters were set)")
+                self.plan.warnings.append(warning)
+                test = TestSpec(**{f.name: getattr(spec, f.name) for f in fields(NodeSpec)},
+                                test_name=test_name, time_limit=time_limit, retry=retry,
+                                warning=warning)
+                test.required = False  # roslaunch's Test drops required
+                test.remappings = remap_scope.remap_args()
+                test.env = list(env_scope.env)
+                test.params = own
+                self.plan.tests.append(test)
+                return
             spec.remappings = remap_scope.remap_args()
             spec.env = list(env_scope.env)
             spec.params = own
@@ -468,26 +476,27 @@ class _Loader:
             self._node_names.add(spec.full_name)
             self.plan.nodes.append(spec)
 
-    def test_attrs(self, el: Element, scope: Scope) -> str:
-        """<test>-only checks; returns test-name."""
+    def test_attrs(self, el: Element, scope: Scope) -> tuple[str, float, int]:
+        """<test>-only checks; returns test-name, time-limit and retry."""
         for a in ("respawn", "respawn_delay", "output"):
             if a in el.attrs:
                 raise ROSLaunchException(f"<test> tags cannot have '{a}' attribute")
         test_name = self.req(el, scope, "test-name")
         limit, retry = self.opt(el, scope, "time-limit"), self.opt(el, scope, "retry")
+        seconds, count = TEST_TIME_LIMIT_DEFAULT, 0
         if limit:
             try:
                 seconds = float(limit)
             except ValueError:
                 raise ROSLaunchException(f"'time-limit' must be a number: [{limit}]") from None
-            if seconds <= 0.0:
+            if not seconds > 0.0:
                 raise ROSLaunchException("'time-limit' must be a positive number")
         if retry:
             try:
-                int(retry)
+                count = int(retry)
             except ValueError:
                 raise ROSLaunchException(f"'retry' must be a number: [{retry}]") from None
-        return test_name
+        return test_name, seconds, count
 
     def node_spec(self, el: Element, scope: Scope, o: dict[str, str | None], pkg: str,
                   node_type: str, name: str, ns: str, respawn: bool, respawn_delay: float,

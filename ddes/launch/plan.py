@@ -28,7 +28,10 @@ from dataclasses import dataclass, field
 from ddes.errors import DdesKeyError
 from ddes.launch.values import ParamValue
 
-__all__ = ["LaunchPlan", "NodeSpec", "RosparamCommand"]
+__all__ = ["TEST_TIME_LIMIT_DEFAULT", "LaunchPlan", "NodeSpec", "RosparamCommand", "TestSpec"]
+
+#: rostest's default ``time-limit`` of a ``<test>`` (seconds; simulated ones in ddes).
+TEST_TIME_LIMIT_DEFAULT = 60.0
 
 
 @dataclass
@@ -76,6 +79,23 @@ class NodeSpec:
         return f"{self.name} ({self.pkg}/{self.type})"
 
 
+@dataclass
+class TestSpec(NodeSpec):
+    """One ``<test>`` (roslaunch's ``Test``): a node plus ``test_name``, ``time_limit``
+    (seconds, rostest's default 60) and ``retry``.  rostest runs each against a fresh
+    launch of :attr:`LaunchPlan.nodes`; plain roslaunch ignores it.  ``required`` is
+    read and dropped, as roslaunch's ``Test`` drops it.  ``warning`` is the text the
+    loader added to :attr:`LaunchPlan.warnings` for it (roslaunch's view: ignored).
+    """
+
+    __test__ = False  # not a pytest test class
+
+    test_name: str = ""
+    time_limit: float = TEST_TIME_LIMIT_DEFAULT
+    retry: int = 0
+    warning: str = ""
+
+
 @dataclass(frozen=True)
 class RosparamCommand:
     """A ``<rosparam command="delete|dump">``: ``param`` is resolved; ``file`` only for dump."""
@@ -95,6 +115,8 @@ class LaunchPlan:
     rosparam_commands: list[RosparamCommand] = field(default_factory=list)
     rosparam_loads: list[tuple[str, ParamValue]] = field(default_factory=list)
     nodes: list[NodeSpec] = field(default_factory=list)
+    #: The ``<test>`` elements, in order (run by rostest, ignored by roslaunch).
+    tests: list[TestSpec] = field(default_factory=list)
     args: dict[str, str] = field(default_factory=dict)
     files: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)

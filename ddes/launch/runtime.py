@@ -261,10 +261,31 @@ class LaunchRunner:
             self._stop_monitor()
             self.finished.succeed(0)
             return
+        self.launch_nodes()
+
+    def launch_nodes(self) -> None:
+        """Start every node of the plan, in order (rostest's ``launch()`` calls this after
+        :meth:`setup_params`, with no core and a test process of its own)."""
         for spec in self.plan.nodes:
             proc = Process(spec, self._next_label(spec.name))
             self.processes.append(proc)
             self._launch(proc)
+
+    def add_process(self, spec: NodeSpec) -> Process:
+        """Register a process started by someone else (rostest's test node): it gets the next
+        ``name-N`` label and counts as alive until :meth:`process_exited`."""
+        proc = Process(spec, self._next_label(spec.name))
+        proc.alive = True
+        self.processes.append(proc)
+        return proc
+
+    def process_exited(self, proc: Process, code: int) -> None:
+        """A process of :meth:`add_process` ended with exit ``code`` (roslaunch's monitor)."""
+        self._exited(proc, code)
+
+    def setup_params(self) -> None:
+        """roslaunch's ``_setup``: rosparam commands, ``clear_params``, then every parameter."""
+        self._setup_params()
 
     def _setup_params(self) -> None:
         params = self.world.master.params
@@ -375,16 +396,31 @@ class LaunchRunner:
         if self._shutting_down or self.done:
             return
         self._shutting_down = True
-        for proc in reversed(self.processes):
-            if proc.alive and proc.node is not None:
-                self.out(f"[{proc.label}] killing on exit")
-                proc.alive = False
-                proc.node.shutdown("roslaunch shutdown")
+        self._kill_live()
         self._stop_monitor()
         self.out("done")
         self.finished.succeed(0)
 
+    def _kill_live(self) -> None:
+        for proc in reversed(self.processes):
+            if proc.alive:
+                self.out(f"[{proc.label}] killing on exit")
+                proc.alive = False
+                if proc.node is not None:
+                    proc.node.shutdown("roslaunch shutdown")
+
     stop = shutdown
+
+    def teardown(self) -> None:
+        """rostest's tear-down (``runner.stop()``): the process monitor shuts down and kills the
+        live nodes, newest first, in that order of lines; no ``done``."""
+        if self._shutting_down or self.done:
+            return
+        self._shutting_down = True
+        self.out("shutting down processing monitor...")
+        self._kill_live()
+        self.out("... shutting down processing monitor complete")
+        self.finished.succeed(0)
 
     def nodes(self) -> list[Node]:
         """The live nodes of this launch, in start order."""

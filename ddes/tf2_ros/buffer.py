@@ -21,10 +21,11 @@ The node a wait runs on is the Buffer's (``Buffer(node=...)``, or the node of th
 from __future__ import annotations
 
 import logging
+import sys
 from typing import TYPE_CHECKING, Any
 
 from ddes.errors import DdesValueError
-from ddes.graph.blocking import current_node, wait
+from ddes.graph.blocking import current_node, current_task, wait
 from ddes.graph.rosout import ERROR, WARN
 from ddes.tf2 import BufferCore, TimeoutException
 from ddes.tf2_ros.geometry import TypeException, transform_function
@@ -38,7 +39,8 @@ if TYPE_CHECKING:
     from ddes.graph.node import Node
     from ddes.tf2.cache import TimeCache
 
-__all__ = ["DEFAULT_CAN_TRANSFORM_POLLING_SCALE", "Buffer", "TimeoutException", "TypeException"]
+__all__ = ["DEFAULT_CAN_TRANSFORM_POLLING_SCALE", "Buffer", "TimeoutException", "TypeException",
+           "console_bridge_text"]
 
 #: tf2_ros's polling scale (``timeout * 0.01``); kept for code that reads it.  ddes does not poll:
 #: a wait ends in the instant the transform arrives.
@@ -117,28 +119,30 @@ class Buffer(BufferCore):
     def _log(self, level: int, text: str) -> None:
         """tf2's warnings and errors on the Buffer's node (/rosout and its console line, at the
         node's simulated time), as a roscpp node with rosconsole_bridge shows them; without a
-        node, the ``ddes.tf2`` logger (see docs/tf.md, "tf2's warnings")."""
+        node, on standard error in console_bridge's words, as tf2_ros writes them (see
+        docs/tf.md, "tf2's warnings")."""
         node = self._node
         if node is None:
-            BufferCore._log(self, level, text)
+            _to_stderr(console_bridge_text(level, text))
             return
         # depth 2: the BufferCore method that logged is the line's file/function/line
         node.log.log(ERROR if level >= logging.ERROR else WARN, text, (), depth=2)
 
     # -- insertion wakes the waiters ----------------------------------------------------------
-    def set_transform(self, transform: Any, authority: str) -> Any:
-        """tf2's setTransform; a wait this insertion satisfies succeeds now."""
-        result = BufferCore.set_transform(self, transform, authority)
+    def set_transform(self, transform: Any, authority: str) -> None:  # type: ignore[override]
+        """tf2's setTransform; a wait this insertion satisfies succeeds now.  Returns None, as
+        tf2_ros's does (a refused transform is logged; :class:`BufferCore` returns tf2's bool)."""
+        BufferCore.set_transform(self, transform, authority)
         if self._waiters:
             self._wake()
-        return result
 
-    def set_transform_static(self, transform: Any, authority: str) -> Any:
-        """tf2's setTransform for a static transform; a wait it satisfies succeeds now."""
-        result = BufferCore.set_transform_static(self, transform, authority)
+    def set_transform_static(self, transform: Any,  # type: ignore[override]
+                             authority: str) -> None:
+        """tf2's setTransform for a static transform; a wait it satisfies succeeds now.  Returns
+        None, as tf2_ros's does."""
+        BufferCore.set_transform_static(self, transform, authority)
         if self._waiters:
             self._wake()
-        return result
 
     def _insert_fast(self, slot: tuple[int, int, TimeCache], stamp: int, tx: float, ty: float,
                      tz: float, qx: float, qy: float, qz: float, qw: float,
@@ -296,3 +300,33 @@ def _timeout_text(args: tuple[Any, ...], t_ns: int) -> str:
     frames = (args[0], args[1]) if len(args) == 3 else (args[0], args[2])
     return (f"Timed out after {t_ns / 1e9:.9f} s waiting for the transform from frame "
             f"[{frames[1]}] to frame [{frames[0]}]")
+
+
+# -- tf2's lines on standard error, as console_bridge's default handler writes them ---------------
+
+#: The line of tf2 0.7.6's ``buffer_core.cpp`` that logs each of tf2's warnings and errors (by
+#: the start of its text), which console_bridge prints after it.
+_CPP_LINES = (("TF_OLD_DATA", 278), ("TF_REPEATED_DATA", 278), ("TF_SELF_TRANSFORM", 221),
+              ("TF_NO_CHILD_FRAME_ID", 227), ("TF_NO_FRAME_ID", 233), ("TF_NAN_INPUT", 240),
+              ("TF_DENORMALIZED_QUATERNION", 255))
+
+
+def console_bridge_text(level: int, text: str) -> str:
+    """tf2's line ``text`` as console_bridge's default output handler writes it to standard
+    error (no handler registered: every rospy process): ``Warning: `` or ``Error:   `` before
+    it, ``at line N in ./tf2/src/buffer_core.cpp`` on the next line."""
+    line = next((n for start, n in _CPP_LINES if text.startswith(start)), 0)
+    if not line and text.startswith("Invalid argument"):  # BufferCore::warnIfInvalid
+        line = 126 if text.endswith("cannot be empty") else 134
+    head = "Error:   " if level >= logging.ERROR else "Warning: "
+    return f"{head}{text}\n         at line {line} in ./tf2/src/buffer_core.cpp\n"
+
+
+def _to_stderr(text: str) -> None:
+    """``text`` on standard error: the running script's (its ``print_line``), else the process's."""
+    task = current_task()
+    printer = getattr(getattr(task, "context", None), "print_line", None)
+    if printer is not None:
+        printer(text.rstrip("\n"), True)
+    else:
+        sys.stderr.write(text)

@@ -110,7 +110,8 @@ def test_the_import_scanner_skips_type_checking_blocks() -> None:
 
 #: (extra, its distributions, the only files that may import them, inside a function).
 OPTIONAL = [("batch", {"distributed", "dask"}, {"ddes/grading/batch.py"}),
-            ("numpy", {"numpy"}, {"ddes/msg/numpy_msg.py", "ddes/compat/tf/transformations.py"})]
+            ("numpy", {"numpy"}, {"ddes/msg/numpy_msg.py", "ddes/compat/tf/transformations.py",
+                                 "ddes/compat/pinned_numpy.py"})]
 
 
 def test_optional_imports_are_lazy() -> None:

@@ -176,7 +176,7 @@ def test_failing_node_code_is_reported_and_the_console_goes_on(console: Console)
 
 def test_completion(console: Console) -> None:
     console.run("rosrun --quiet rospy_tutorials talker &")
-    assert console.complete("rost", "rost") == ["rostopic"]
+    assert console.complete("rost", "rost") == ["rostest", "rostopic"]
     assert "rosrun" in console.complete("", "")
     assert console.complete("roscd roscpp_t", "roscpp_t") == ["roscpp_tutorials"]
     assert console.complete("rospack find std_m", "std_m") == ["std_msgs"]

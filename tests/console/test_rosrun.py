@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import textwrap
+from pathlib import Path
+
 import pytest
 
 from ddes.console.shell import Console
+from ddes.rospack import RosPack
 
 
 def test_rospy_talker_and_listener_log_as_rospy(console: Console) -> None:
@@ -136,3 +140,50 @@ def test_foreign_job_done_is_reported_once(console: Console) -> None:
     console.run("sleep 0.1")
     assert console.run("jobs") == "[1]  Done                    short\n"
     assert console.run("jobs") == ""
+
+
+def _package(root: Path, scripts: dict[str, str]) -> RosPack:
+    pkg = root / "mypkg"
+    (pkg / "scripts").mkdir(parents=True)
+    (pkg / "package.xml").write_text(
+        '<?xml version="1.0"?><package format="2"><name>mypkg</name><version>0.0.0</version>'
+        '<description>d</description><maintainer email="a@b.c">a</maintainer>'
+        "<license>BSD</license></package>\n")
+    for name, text in scripts.items():
+        (pkg / "scripts" / name).write_text(textwrap.dedent(text))
+    return RosPack([root])
+
+
+def test_a_script_dying_before_init_node_shows_its_traceback(tmp_path: Path) -> None:
+    rospack = _package(tmp_path, {
+        "bad.py": """
+            import rospy
+
+            def load():
+                raise ValueError("broken config")
+
+            load()
+            rospy.init_node("bad")
+        """,
+        "usage.py": """
+            import sys
+            print("usage: usage.py N")
+            print("  N: how many", file=sys.stderr)
+            sys.exit(2)
+        """})
+    console = Console(seed=0, rospack=rospack, out=lambda _line: None)
+    result = console.execute("rosrun mypkg bad.py")
+    assert (result.code, result.out) == (1, "")
+    assert result.err == (
+        "Traceback (most recent call last):\n"
+        '  File "bad.py", line 7, in <module>\n'
+        "    load()\n"
+        '  File "bad.py", line 5, in load\n'
+        '    raise ValueError("broken config")\n'
+        "ValueError: broken config\n"
+        "ERROR: mypkg/bad.py exited with code 1 before rospy.init_node: there is no node (check "
+        "its arguments)\n")
+    result = console.execute("rosrun mypkg usage.py")
+    assert (result.out, result.err.splitlines()[0]) == ("usage: usage.py N\n", "  N: how many")
+    code, text = console.transcript(["rosrun mypkg bad.py"])
+    assert code == 1 and "ValueError: broken config\nERROR: mypkg/bad.py exited" in text

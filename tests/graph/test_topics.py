@@ -244,7 +244,7 @@ def test_wait_for_message(world: ddes.World) -> None:
 
     node.process(main())
     world.run()
-    assert out == [(100, 1), (600, "timeout exceeded while waiting for message on topic /silent")]
+    assert out == [(100, 1), (600, "timeout exceeded while waiting for message on topic silent")]
 
 
 @pytest.mark.parametrize("kind", ["typed", "args", "any", "busy"])

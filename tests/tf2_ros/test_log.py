@@ -1,6 +1,8 @@
 """tf2's warnings and errors (TF_OLD_DATA, TF_REPEATED_DATA, TF_SELF_TRANSFORM...) from a Buffer
 that belongs to a node go to that node's log: /rosout at the simulated instant and its console
-line; a Buffer without a node logs them to the ``ddes.tf2`` logger."""
+line; a Buffer without a node writes them to standard error as tf2_ros does (console_bridge's
+words, tests/tf2_ros/test_standalone_buffer.py), a BufferCore logs them to the ``ddes.tf2``
+logger."""
 
 from __future__ import annotations
 
@@ -90,14 +92,24 @@ def test_a_roscpp_listener_prints_rosconsoles_line() -> None:
     assert printed == [(f"[ WARN] [2.000000000]: {OLD}", 4)]
 
 
-def test_a_buffer_without_a_node_logs_to_ddes_tf2(caplog: pytest.LogCaptureFixture) -> None:
-    for buf in (Buffer(), BufferCore()):
-        caplog.clear()
-        with caplog.at_level(logging.WARNING, logger="ddes.tf2"):
-            buf.set_transform(stamped("odom", "base_link", Time(12)), "/robot")
-            buf.set_transform(stamped("odom", "base_link", Time(1)), "/robot")
-        assert caplog.messages == [OLD]
-        assert caplog.records[0].name == "ddes.tf2"
+def test_a_buffer_core_logs_to_ddes_tf2(caplog: pytest.LogCaptureFixture) -> None:
+    buf = BufferCore()
+    with caplog.at_level(logging.WARNING, logger="ddes.tf2"):
+        buf.set_transform(stamped("odom", "base_link", Time(12)), "/robot")
+        buf.set_transform(stamped("odom", "base_link", Time(1)), "/robot")
+    assert caplog.messages == [OLD]
+    assert caplog.records[0].name == "ddes.tf2"
+
+
+def test_a_buffer_without_a_node_writes_console_bridges_lines_to_stderr(
+        caplog: pytest.LogCaptureFixture, capsys: pytest.CaptureFixture[str]) -> None:
+    buf = Buffer()
+    with caplog.at_level(logging.WARNING, logger="ddes.tf2"):
+        buf.set_transform(stamped("odom", "base_link", Time(12)), "/robot")
+        buf.set_transform(stamped("odom", "base_link", Time(1)), "/robot")
+    assert caplog.messages == []
+    assert capsys.readouterr().err == (
+        f"Warning: {OLD}\n         at line 278 in ./tf2/src/buffer_core.cpp\n")
 
 
 def test_the_log_hook_can_be_overridden() -> None:

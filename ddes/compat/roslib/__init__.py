@@ -10,7 +10,9 @@ Follows Noetic's ``roslib`` (ros/ros, ``core/roslib/src/roslib``) in the parts s
 * :mod:`ddes.compat.roslib.packages`: ``get_pkg_dir``, ``find_resource``, ``find_node`` and the
   exceptions ``ROSPkgException``, ``InvalidROSPkgException``, ``MultipleNodesException``;
 * :mod:`ddes.compat.roslib.message`: ``get_message_class``, ``get_service_class`` and the
-  message base names (``Message``, ``Time``, ``Duration`` ...).
+  message base names (``Message``, ``Time``, ``Duration`` ...);
+* :mod:`ddes.compat.roslib.scriptutil` (deprecated in Noetic): ``script_resolve_name``
+  (``get_master``/``get_param_server`` raise: ddes has no XML-RPC).
 
 Packages are those of the running world (``world.rospack``: its package path, then ddes's
 bundled packages, never ``ROS_PACKAGE_PATH``); message types its registry's
