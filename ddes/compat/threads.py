@@ -302,8 +302,8 @@ class Thread:
         if self._done is not None:
             raise RuntimeError("threads can only be started once")
         if self._auto_name:  # threading's "Thread-N (target)", N counted per node
-            n = me.node.__dict__.get("_ddes_threads", 0) + 1
-            me.node.__dict__["_ddes_threads"] = n
+            counts = me.world.extension("threads.count", _new_counts)
+            n = counts[me.node] = counts.get(me.node, 0) + 1
             target = getattr(self._target, "__name__", "")
             self.name = f"Thread-{n}" + (f" ({target})" if target else "")
         self._done = spawn(me.world, self._bootstrap, node=me.node)
@@ -315,6 +315,10 @@ class Thread:
 
     def is_alive(self) -> bool:
         return self._done is not None and not self._done.triggered
+
+
+def _new_counts(_world: object) -> dict[Any, int]:
+    return {}
 
 
 def module() -> types.ModuleType:

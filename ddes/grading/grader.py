@@ -156,9 +156,10 @@ def run_scenario(exercise: Exercise, scenario: Scenario, prepared: Path | None,
         lock = Lockstep(world, sandboxes)
         finished = exercise.finished
         outcome = lock.run(until, done=None if finished is None else lambda: finished(world))
-        refused = lock.problems + [(0, f"{len(extra)} more student node(s) than the {MAX_CHILDREN} a "
-                                       f"grade runs were not started ({extra[0][0]}, …)")
-                                   for _ in extra[:1]]
+        refused = list(lock.problems)
+        if extra:
+            refused.append((0, f"{len(extra)} more student node(s) than the {MAX_CHILDREN} a "
+                               f"grade runs were not started ({extra[0][0]}, …)"))
         nodes = list(lock.proxies)
         deaths, failures, reads = lock.deaths, lock.callback_failures, lock.param_reads
         outcomes = [(path, o) for (path, _args), o in zip(scripts, lock.outcomes)]

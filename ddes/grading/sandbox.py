@@ -612,10 +612,10 @@ def _disk_use(root: Path, max_files: int) -> tuple[int, int]:
                 st = e.stat(follow_symlinks=False)
             except OSError:
                 continue
-            used += max(st.st_size, st.st_blocks * 512) if not e.is_dir(follow_symlinks=False) \
-                else 0
             if e.is_dir(follow_symlinks=False):
                 stack.append(e.path)
+            else:
+                used += max(st.st_size, st.st_blocks * 512)
     return used, files
 
 
