@@ -12,7 +12,10 @@ on a temporary copy of the submission and talks to it only in the frames of
 * **no network**: a fresh network namespace (``unshare(CLONE_NEWNET)``, or with a user namespace
   when the grader is not root); where neither can be made, Landlock's TCP rules and the audit
   hook remain, and :attr:`Sandbox.enforced` says so;
-* **an unprivileged user**: when the grader runs as root the child runs as ``nobody``;
+* **an unprivileged user of its own**: when the grader runs as root the child runs as a user no
+  account has, one per sandbox (``0x5DD00000`` and up, claimed with a lock in
+  ``/tmp/ddes-grading-uids``, the lowest free one), so the processes rlimit counts only this
+  child's threads and concurrent grades (a batch's workers) never share it;
 * **no new process, no socket** (seccomp, installed by the child itself) and **no leftover**:
   whatever the child started that survived the group kill (found in ``/proc`` by the token in
   its environment) is killed and named in :attr:`SandboxOutcome.leftovers`;
@@ -37,6 +40,7 @@ decoded by :func:`ddes.grading.protocol.decode_frame` and validated by the calle
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import resource
@@ -58,7 +62,9 @@ from ddes.grading.determinism import aslr_off
 
 __all__ = ["Limits", "RunBudget", "Sandbox", "SandboxOutcome", "StepReply"]
 
-_NOBODY = 65534
+#: The first of the users a sandbox child runs as (when the grader is root), and how many.
+UID_BASE = 0x5DD0_0000
+UID_SLOTS = 4096
 _CLONE_NEWUSER = 0x10000000
 _CLONE_NEWNET = 0x40000000
 
@@ -122,6 +128,52 @@ class SandboxOutcome:
     #: Processes of the child's that were still running after it ended (each ``pid cmdline``):
     #: the grader killed them.
     leftovers: list[str] = field(default_factory=list)
+
+
+def _uid_in_use(uid: int) -> bool:
+    """True when a live process runs as ``uid`` (a real, effective or saved user id)."""
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/status", encoding="ascii", errors="replace") as f:
+                for line in f:
+                    if line.startswith("Uid:"):
+                        if str(uid) in line.split()[1:4]:
+                            return True
+                        break
+        except OSError:
+            continue
+    return False
+
+
+def claim_uid(lock_dir: str | os.PathLike[str] | None = None) -> tuple[int, int]:
+    """The lowest free sandbox user (``UID_BASE + slot``) and the descriptor whose ``flock``
+    holds it (closing it frees the user; so does the grader's death).  A slot whose user still
+    has processes (a crashed grader's) is passed over.  Root only."""
+    folder = Path(lock_dir if lock_dir is not None
+                  else os.path.join(tempfile.gettempdir(), "ddes-grading-uids"))
+    try:
+        folder.mkdir(mode=0o700)
+    except FileExistsError:
+        pass
+    st = os.lstat(folder)
+    if not os.path.isdir(folder) or os.path.islink(folder) or st.st_uid != os.geteuid() \
+            or st.st_mode & 0o022:
+        raise GradingError(f"{folder} (the sandbox users' locks) must be a folder of this user "
+                           "that no one else can write; remove it and grade again")
+    for slot in range(UID_SLOTS):
+        fd = os.open(folder / str(slot), os.O_CREAT | os.O_RDWR | os.O_NOFOLLOW, 0o600)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            continue
+        if _uid_in_use(UID_BASE + slot):
+            os.close(fd)
+            continue
+        return UID_BASE + slot, fd
+    raise GradingError(f"all {UID_SLOTS} sandbox users are in use: fewer grades at once")
 
 
 def _others_can_run_python() -> bool:
@@ -216,12 +268,16 @@ class Sandbox:
         shutil.copytree(submission, self.workdir, symlinks=False)
         self._output_path = self._root / "output.txt"
         self._as_nobody = drop_user and os.geteuid() == 0 and _others_can_run_python()
+        #: The user the child runs as (None: the grader's own) and the lock that holds it.
+        self.uid: int | None = None
+        self._uid_lock = -1
         if self._as_nobody:
+            self.uid, self._uid_lock = claim_uid()
             os.chmod(self._root, 0o711)
             for dirpath, _dirs, files in os.walk(self.workdir):
-                os.chown(dirpath, _NOBODY, _NOBODY)
+                os.chown(dirpath, self.uid, self.uid)
                 for f in files:
-                    os.chown(os.path.join(dirpath, f), _NOBODY, _NOBODY)
+                    os.chown(os.path.join(dirpath, f), self.uid, self.uid)
         self._network_namespace = network_namespace
         self._landlock = landlock
         self._seccomp = seccomp and seccomp_available()
@@ -279,7 +335,8 @@ class Sandbox:
         finally:
             out.close()
         if self._as_nobody:
-            enforced.append("unprivileged user nobody")
+            enforced.append(f"unprivileged user {self.uid} of its own (no account, no other "
+                            "process)")
         elif os.geteuid() == 0:
             enforced.append("NOT a separate user: this Python is not readable by others")
         abi = landlock_abi() if self._landlock else 0
@@ -301,6 +358,7 @@ class Sandbox:
         lim = self.limits
         unshare = _libc_unshare() if netns else None
         as_nobody = self._as_nobody
+        uid = self.uid
         no_aslr = aslr_off()  # libc looked up before the fork: id() order repeats
 
         def run() -> None:
@@ -315,10 +373,10 @@ class Sandbox:
                 flags = _CLONE_NEWNET if os.geteuid() == 0 else _CLONE_NEWUSER | _CLONE_NEWNET
                 if unshare(flags) != 0:  # type: ignore[operator]
                     raise OSError("unshare failed")
-            if as_nobody:
+            if as_nobody and uid is not None:
                 os.setgroups([])
-                os.setgid(_NOBODY)
-                os.setuid(_NOBODY)
+                os.setgid(uid)
+                os.setuid(uid)
 
         return run
 
@@ -551,6 +609,9 @@ class Sandbox:
         except OSError:
             pass
         shutil.rmtree(self._root, ignore_errors=True)
+        if self._uid_lock >= 0:  # the child and its leftovers are dead: the user is free again
+            os.close(self._uid_lock)
+            self._uid_lock = -1
         return self.outcome
 
     def _kill_leftovers(self) -> None:
@@ -569,6 +630,11 @@ class Sandbox:
                     self.outcome.leftovers.append(text)
             for pid, _cmd in found:  # gone (or a zombie of its new parent) before the grade goes on
                 _wait_dead(pid, 2.0)
+
+    def __del__(self) -> None:
+        if getattr(self, "_uid_lock", -1) >= 0:  # never closed: at least free its user
+            os.close(self._uid_lock)
+            self._uid_lock = -1
 
     def __enter__(self) -> Sandbox:
         self.start()

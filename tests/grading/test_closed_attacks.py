@@ -10,12 +10,13 @@ import os
 import re
 import socket
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
 
 from ddes.grading import grade
-from ddes.grading.sandbox import Limits, Sandbox, seccomp_available
+from ddes.grading.sandbox import UID_BASE, Limits, Sandbox, claim_uid, seccomp_available
 
 HERE = Path(__file__).resolve().parent
 TALKER = (HERE / "fixtures" / "ex0_solution" / "talker.py").read_text()
@@ -85,17 +86,22 @@ def test_a_leftover_process_is_killed_and_named(tmp_path: Path) -> None:
             [sys.executable, "-c", "import os, time; os.setsid(); time.sleep({marker})"],
             [sys.executable.encode()], True, (w,), None,
             None, -1, -1, -1, -1, -1, -1, r, w, True, True, -1, None, None, None, -1, None, False)
+        open("forked", "w").close()
         import rospy
         rospy.init_node("node")
         rospy.spin()
     """))
     box = Sandbox(script, [("node.py", [])], limits=Limits(step_wall_s=5.0), seccomp=False)
     box.start()
-    for t in range(0, 200_000_000, 10_000_000):
+    t = 0
+    deadline = time.monotonic() + 30.0  # the script's thread forks while the steps go on
+    while not (box.workdir / "forked").exists() and time.monotonic() < deadline:
         box.step(t, [])
+        t += 10_000_000
+    assert (box.workdir / "forked").exists()
     outcome = box.close()
     assert _leftovers(marker) == []
-    assert outcome.leftovers and marker in outcome.leftovers[0], outcome.leftovers
+    assert outcome.leftovers and marker in outcome.leftovers[0], outcome.output_tail
 
 
 @needs_seccomp
@@ -303,3 +309,47 @@ def test_a_run_starts_a_bounded_number_of_children(tmp_path: Path,
     report = grade(ex, sub)
     assert any("1 more student node(s) than the 1 a grade runs were not started (b.py" in p
                for p in report.problems), report.problems
+
+
+def test_each_sandbox_has_a_user_of_its_own(tmp_path: Path) -> None:
+    """The processes rlimit counts per user: two grades at once (a batch's workers) must not
+    share one, or the threads of one would make the other's fail."""
+    locks = tmp_path / "locks"
+    if os.geteuid() != 0:
+        with pytest.raises(OSError):  # only root can hand out users; the locks still work
+            os.setuid(claim_uid(locks)[0])
+        return
+    first, fd1 = claim_uid(locks)
+    second, fd2 = claim_uid(locks)
+    assert first == UID_BASE and second == UID_BASE + 1
+    os.close(fd1)
+    again, fd3 = claim_uid(locks)
+    assert again == first  # the lowest free one: sequential grades run as one user
+    os.close(fd2)
+    os.close(fd3)
+
+
+def test_threads_of_one_sandbox_do_not_count_against_another(tmp_path: Path) -> None:
+    script = tmp_path / "sub"
+    script.mkdir()
+    (script / "node.py").write_text(textwrap.dedent("""
+        import threading, rospy
+        rospy.init_node("node")
+        gate = threading.Event()
+        threads = [threading.Thread(target=gate.wait) for _ in range(10)]
+        for t in threads:
+            t.start()
+        rospy.loginfo("ten threads started")
+        rospy.spin()
+    """))
+    boxes = [Sandbox(script, [("node.py", [])], limits=Limits(step_wall_s=5.0)) for _ in range(2)]
+    for box in boxes:
+        box.start()
+    for t in range(0, 100_000_000, 10_000_000):
+        for box in boxes:
+            box.step(t, [])
+    outcomes = [box.close() for box in boxes]
+    for o in outcomes:
+        assert "ten threads started" in o.output_tail, o.output_tail
+    if os.geteuid() == 0 and boxes[0].uid is not None:
+        assert boxes[0].uid != boxes[1].uid
