@@ -416,6 +416,9 @@ class _BeforeInit:
             if name == "wait_for_service" and self._cls is ServiceProxy:
                 service = self._args[0] if self._args else self._kwargs.get("name")
                 return lambda timeout=None: wait_for_service(str(service), timeout)
+            if self._cls is ServiceProxy and name in ("call", "resolved_name", "request_class",
+                                                      "response_class", "close"):
+                return getattr(self._unnamed_proxy(), name)
             raise ROSException("ROS node has not been initialized yet. Please call init_node() "
                                "first")
         value = getattr(real, name)
@@ -426,15 +429,45 @@ class _BeforeInit:
     def __call__(self, *args: Any, **kwds: Any) -> Any:
         real = self.__dict__.get("_real")
         if real is None:
-            raise ROSInitException(
-                "ROS node has not been initialized yet. Please call init_node() first (ddes: "
-                "a service call before rospy.init_node has no node to call from; rospy makes "
-                "it as /unnamed)")
+            if self._cls is ServiceProxy:
+                return self._unnamed_proxy()(*args, **kwds)
+            raise ROSInitException("ROS node has not been initialized yet. Please call "
+                                   "init_node() first")
         return real(*args, **kwds)  # type: ignore[operator]
+
+    def _unnamed_proxy(self) -> ServiceProxy:
+        """The proxy this ServiceProxy calls through before ``init_node``: rospy's calls
+        then go out with the caller id ``/unnamed`` (in the script's namespace), from no
+        registered node."""
+        proxy = self.__dict__.get("_unnamed")
+        if proxy is None:
+            task = current_task()
+            if task is None:
+                raise ROSInitException("ROS node has not been initialized yet. Please call "
+                                       "init_node() first")
+            proxy = ServiceProxy._on(_unnamed_node(task), *self._args, **self._kwargs)
+            self.__dict__["_unnamed"] = proxy
+        return proxy
 
     def __repr__(self) -> str:
         real = self.__dict__.get("_real")
         return repr(real) if real is not None else f"<{self._cls.__name__} before init_node>"
+
+
+def _unnamed_node(task: Any) -> Node:
+    """The caller a script's service calls go out from before ``init_node``: ``/unnamed`` in
+    its namespace, a node the master does not list (rospy registers nothing until
+    ``init_node``), one per script."""
+    context = _context_of(task)
+    node = context.__dict__.get("_unnamed_node")
+    if node is None:
+        from ddes.graph.node import Node as _Node
+
+        unnamed = _Unnamed.of(task)
+        node = _Node(task.world, unnamed.name, spinner="rospy", disable_rosout=True,
+                    registered=False)
+        context.__dict__["_unnamed_node"] = node
+    return node
 
 
 def _context_of(task: Any) -> Any:
@@ -568,7 +601,18 @@ class ServiceProxy:
 
     def __init__(self, name: str, service_class: Any, persistent: bool = False,
                  headers: dict[str, str] | None = None) -> None:
-        self._proxy = _ServiceProxy(_node(), name, service_class, persistent, headers)
+        self._setup(_node(), name, service_class, persistent, headers)
+
+    @classmethod
+    def _on(cls, node: Node, *args: Any, **kwargs: Any) -> ServiceProxy:
+        """A proxy of ``node`` (not the running script's), made with rospy's arguments."""
+        proxy = object.__new__(cls)
+        proxy._setup(node, *args, **kwargs)
+        return proxy
+
+    def _setup(self, node: Node, name: str, service_class: Any, persistent: bool = False,
+               headers: dict[str, str] | None = None) -> None:
+        self._proxy = _ServiceProxy(node, name, service_class, persistent, headers)
         self.resolved_name = self._proxy.resolved_name
         self.request_class = self._proxy.request_class
         self.response_class = self._proxy.response_class

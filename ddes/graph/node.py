@@ -123,6 +123,10 @@ class Node:
         How log lines print: ``"rospy"`` (default) or ``"roscpp"``.
     disable_rosout:
         Do not publish log lines on ``/rosout``.
+    registered:
+        ``False`` keeps the node out of the master's node list (no ``node.start``): a
+        caller without a node, as a rospy script is before ``init_node`` (its service calls
+        go out as ``/unnamed``).
     """
 
     def __init__(
@@ -139,6 +143,7 @@ class Node:
         log_level: str | int = "info",
         log_style: str = "rospy",
         disable_rosout: bool = False,
+        registered: bool = True,
     ) -> None:
         if not isinstance(name, str) or not name:
             raise DdesTypeError(f"node name must be a non-empty string, got {name!r}")
@@ -182,8 +187,12 @@ class Node:
         #: The node's callback queue and spinner (:mod:`ddes.graph.callbacks`).
         self.callbacks = CallbackQueue(self, spinner)
         self.spinner = spinner
-        world.register_node(self)
-        world.record("node.start", self.name, use_sim_time=self.use_sim_time)
+        #: The node is in the master's node list (False: a caller with no node, as a rospy
+        #: script before ``init_node``, whose calls go out as ``/unnamed``).
+        self.registered = bool(registered)
+        if registered:
+            world.register_node(self)
+            world.record("node.start", self.name, use_sim_time=self.use_sim_time)
         for key, value in args.params.items():
             master.params.set_param(self.resolve_name("~" + key), value)
         self.log = NodeLogger(self, log_level, rosout=not disable_rosout, style=log_style)

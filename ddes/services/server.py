@@ -168,16 +168,22 @@ class Service:
     # -- the connection handshake ---------------------------------------------------------
     def _accept(self, conn: ServiceConnection) -> str | None:
         """The error a new connection gets, or None when it is accepted."""
+        error = self.refusal(conn.proxy)
+        if error is None:
+            self._conns[conn.id] = conn
+        return error
+
+    def refusal(self, proxy: ServiceProxy) -> str | None:
+        """The error a new connection of ``proxy`` would get (rospy's texts), or None."""
         if self.node.is_shutdown():
             return "[Errno 111] Connection refused"
         if self._closed:
             return (f"remote error reported: [{self.node.name}] is not a provider of  "
-                    f"[{conn.proxy.resolved_name}]")
-        md5 = conn.proxy.service_class._md5sum
+                    f"[{proxy.resolved_name}]")
+        md5 = proxy.service_class._md5sum
         if md5 != "*" and md5 != self.md5sum:
-            return (f"remote error reported: request from [{conn.proxy.node.name}]: md5sums do "
+            return (f"remote error reported: request from [{proxy.node.name}]: md5sums do "
                     f"not match: [{md5}] vs. [{self.md5sum}]")
-        self._conns[conn.id] = conn
         return None
 
     # -- serving ---------------------------------------------------------------------------
@@ -193,6 +199,7 @@ class Service:
                                  self.resolved_name, call.id, conn.proxy.node.name))
         cls = self.request_class
         request = cls.__new__(cls)._deserialize_from(call.data)
+        request._connection_header = conn.client_header  # as rospy sets it
         self.node.callbacks.invoke(self._serve, (conn, call, request), conn)
 
     def _serve(self, conn: ServiceConnection, call: PendingCall,

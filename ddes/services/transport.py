@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ddes.errors import DdesError, DdesTypeError, ROSSerializationException
+from ddes.errors import DdesError, DdesTypeError, ROSSerializationException, ServiceException
 from ddes.kernel.events import succeed
 from ddes.kernel.trace_lines import wire_keys
 from ddes.services.convert import args_kwds_to_request
@@ -64,7 +64,8 @@ class ServiceConnection:
     """A client's TCPROS connection to one server (one call, or many if persistent)."""
 
     __slots__ = ("id", "proxy", "server", "link", "persistent", "ready", "waiting", "server_gone",
-                 "closed", "last_request", "last_response", "cb_active")
+                 "closed", "last_request", "last_response", "cb_active", "_client_header",
+                 "_server_header")
 
     def __init__(self, proxy: ServiceProxy, server: Service, link: ServiceLink) -> None:
         self.id = proxy.world.next_id("service_connection")
@@ -85,6 +86,39 @@ class ServiceConnection:
         self.last_response = 0
         #: A request of this connection is being served (one at a time per connection).
         self.cb_active = False
+        self._client_header: dict[str, str] | None = None
+        self._server_header: dict[str, str] | None = None
+
+    @property
+    def client_header(self) -> dict[str, str]:
+        """The handshake header the client sent (rospy's TCPROSServiceClient fields, then the
+        proxy's ``headers=``, which may override them): each request's ``_connection_header``."""
+        header = self._client_header
+        if header is None:
+            proxy = self.proxy
+            header = {"service": proxy.resolved_name, "md5sum": proxy.service_class._md5sum,
+                      "callerid": proxy.node.name}
+            header.update(proxy.headers)
+            self._client_header = header
+        return header
+
+    @property
+    def server_header(self) -> dict[str, str]:
+        """The handshake header the server answered with (rospy's four fields; roscpp's also
+        names the request and response types): each response's ``_connection_header``."""
+        header = self._server_header
+        if header is None:
+            server = self.server
+            cls = server.service_class
+            if server.node.client_library == "roscpp":
+                header = {"callerid": server.node.name, "md5sum": server.md5sum,
+                          "request_type": cls._request_class._type,
+                          "response_type": cls._response_class._type, "type": cls._type}
+            else:
+                header = {"callerid": server.node.name, "md5sum": server.md5sum,
+                          "service": server.resolved_name, "type": cls._type}
+            self._server_header = header
+        return header
 
     def close(self) -> None:
         """Close from the client side (the server forgets it)."""
@@ -123,6 +157,9 @@ class PendingCall:
         proxy._pending.pop(self.id, None)
         cls = proxy.response_class
         response = _new(cls)._deserialize_from(data)
+        conn = self.conn
+        if conn is not None:
+            response._connection_header = conn.server_header  # as rospy sets it
         world = proxy.world
         now: int = world.env.now_ns
         latency = now - self.t0
@@ -180,7 +217,13 @@ def open_call(proxy: ServiceProxy, args: tuple[object, ...], kwds: dict[str, obj
     try:
         data = request._serialize_to_bytes()
     except Exception:  # noqa: BLE001 - serialize() raises the error that names the field
-        data = serialize(request)
+        try:
+            data = serialize(request)
+        except DdesError:
+            refused = _refused_before_sending(proxy)
+            if refused is not None:
+                raise ServiceException(refused) from None
+            raise
     world = proxy.world
     stats = proxy._stats
     if stats is None:
@@ -196,6 +239,23 @@ def open_call(proxy: ServiceProxy, args: tuple[object, ...], kwds: dict[str, obj
         trace.append_row((call.t0, "service.call", node.name, _CALL_KEYS))
     proxy._pending[call.id] = call
     return call
+
+
+def _refused_before_sending(proxy: ServiceProxy) -> str | None:
+    """What rospy's call raises before it serializes the request (it finds the service and
+    connects first): the service unavailable, or the connection refused (md5sums that do
+    not match, a server shutting down).  None on an open persistent connection, or when the
+    connection would be accepted: then the serialization error stands.  ddes raises it at
+    once, where rospy learns the refusal one round trip later."""
+    conn = proxy._transport
+    if conn is not None and not conn.server_gone:
+        return None
+    name = proxy.resolved_name
+    entry = proxy.world.master.lookup_service(name)
+    if entry is None:
+        return f"service [{name}] unavailable"
+    error = entry.server.refusal(proxy)
+    return None if error is None else f"unable to connect to service: {error}"
 
 
 def _wire_keys(keys: tuple[str, ...], field: str, cls: type[Message]) -> tuple[str, ...]:

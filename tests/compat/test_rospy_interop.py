@@ -224,3 +224,64 @@ def test_the_fibonacci_action_scripts_agree(ros_python: Callable[..., Any],
     assert example["fibonacci_client.py print"] == theirs["client"]
     assert [line.split("]: ", 1)[1] for line in example["fibonacci_server.py log"]] == \
         [line.split("]: ", 1)[1] for line in theirs["server"]]
+
+
+HEADER_SERVER = '''
+import json, rospy
+from rospy_tutorials.srv import AddTwoInts, AddTwoIntsResponse
+def handle(req):
+    print(json.dumps(sorted(req._connection_header.items())), flush=True)
+    return AddTwoIntsResponse(req.a + req.b)
+rospy.init_node("header_server")
+rospy.Service("add_two_ints", AddTwoInts, handle)
+print("ready", flush=True)
+rospy.spin()
+'''
+
+HEADER_CLIENT = '''
+import json, rospy
+from rospy_tutorials.srv import AddTwoInts
+rospy.wait_for_service("add_two_ints")
+early = rospy.ServiceProxy("add_two_ints", AddTwoInts, headers={"cookies": "peanut butter"})
+resp = early(1, 2)  # before init_node: rospy calls as /unnamed
+print(resp.sum, json.dumps(sorted(resp._connection_header.items())), flush=True)
+rospy.init_node("header_client")
+print(early.call(3, 4).sum, flush=True)
+'''
+
+HEADERS = r'''
+with open(os.path.join(_gen, "server.py"), "w") as f:
+    f.write(SERVER)
+with open(os.path.join(_gen, "client.py"), "w") as f:
+    f.write(CLIENT)
+server = start_process([sys.executable, "-u", os.path.join(_gen, "server.py")])
+while server.stdout.readline().strip() != "ready":
+    pass
+client = subprocess.run([sys.executable, "-u", os.path.join(_gen, "client.py")],
+                        capture_output=True, text=True, timeout=60, env=dict(os.environ))
+print(json.dumps({"server": stop(server), "client": client.stdout.splitlines(),
+                  "code": client.returncode, "err": client.stderr}))
+'''
+
+
+def test_service_connection_headers_and_calls_before_init_node_are_rospys(
+        ros_python: Callable[..., Any], tmp_path: Path) -> None:
+    """A call before init_node goes out as /unnamed; the server's request carries the client's
+    header (custom fields included) and the client's response the server's header."""
+    body = f"SERVER = {HEADER_SERVER!r}\nCLIENT = {HEADER_CLIENT!r}\n" + HEADERS
+    theirs = _reference(ros_python, body)
+    assert theirs["code"] == 0, theirs
+    (tmp_path / "server.py").write_text(HEADER_SERVER)
+    (tmp_path / "client.py").write_text(HEADER_CLIENT)
+    printed: dict[str, list[str]] = {"server": [], "client": []}
+    world = ddes.World()
+    run_script(world, tmp_path / "server.py", print_line=lambda t, _e: printed["server"].append(t))
+    done, _ = run_script(world, tmp_path / "client.py",
+                         print_line=lambda t, _e: printed["client"].append(t))
+    world.run(until=2.0)
+    assert done.value == 0
+    assert printed["client"] == theirs["client"]
+    assert printed["server"][0] == "ready"  # the reference read this line to know the server is up
+    assert printed["server"][1:] == theirs["server"]
+    assert '["callerid", "/unnamed"]' in theirs["server"][0] and "cookies" in theirs["server"][0]
+    assert '["callerid", "/header_client"]' in theirs["server"][1]

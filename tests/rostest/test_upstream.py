@@ -36,6 +36,8 @@ PASSING = {
     ("rospy_tutorials", "test-talker-listener-with-timer.launch"): 1,
     ("rospy_tutorials", "test-on-shutdown.launch"): 1,
     ("rospy_tutorials", "test-peer-subscribe-notify.launch"): 1,
+    ("rospy_tutorials", "test-add-two-ints.launch"): 3,
+    ("rospy_tutorials", "test-connection-header.launch"): 3,
     ("actionlib", "test_imports.launch"): 1,
     ("actionlib", "test_python_exercise_simple_client.launch"): 7,
     ("actionlib", "test_python_server2.launch"): 1,
@@ -106,11 +108,8 @@ def _summary(lines: list[str]) -> list[str]:
 @pytest.mark.parametrize("package, name, test_name, methods", [
     ("rospy_tutorials", "test-talker-listener.launch", "talker_listener_test",
      ["test_talker_listener"]),
-    pytest.param("rospy_tutorials", "test-add-two-ints.launch", "add_two_ints",
-                 ["test_add_two_ints", "test_add_two_ints_bad_then_good",
-                  "test_add_two_ints_bad_type"],
-                 marks=pytest.mark.xfail(reason="ddes's rospy refuses a service call before "
-                                                "init_node (rospy makes it as /unnamed)")),
+    ("rospy_tutorials", "test-add-two-ints.launch", "add_two_ints",
+     ["test_add_two_ints", "test_add_two_ints_bad_then_good", "test_add_two_ints_bad_type"]),
 ])
 def test_the_summary_is_real_rostests(package: str, name: str, test_name: str,
                                       methods: list[str], ros_python: Callable[..., Any],
