@@ -54,6 +54,7 @@ if TYPE_CHECKING:
     from ddes.graph.node import Node
     from ddes.kernel.events import Posted
     from ddes.msg.message import Message, ServiceDefinition
+    from ddes.services.client import ServiceProxy
 
 __all__ = ["ErrorHandler", "Handler", "Service"]
 
