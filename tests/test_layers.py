@@ -34,7 +34,7 @@ LAYERS: list[tuple[str, ...]] = [
     ("tf2_ros",),
     ("rqt",),
     ("sim",),
-    ("compat",),
+    ("compat", "roscpp"),
     ("nodes", "packages"),
     ("launch",),
     ("console",),

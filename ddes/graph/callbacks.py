@@ -242,6 +242,16 @@ class CallbackQueue:
         self._update_free()
 
     # -- manual spinning -------------------------------------------------------------------
+    def set_manual(self, manual: bool) -> None:
+        """Switch between manual spinning (callbacks wait for :meth:`spin_once`) and running
+        them as they come, as a roscpp node does when its main enters ``ros::spin()`` or starts
+        an ``AsyncSpinner`` (and stops it again).  What waits runs now, in order."""
+        self.manual = bool(manual)
+        if not self.manual and self._q:
+            self._drain()
+        else:
+            self._update_free()
+
     def spin_once(self) -> simpy.Process:
         """Run the callbacks queued now, one at a time (roscpp ``spinOnce``)."""
         return self._env.process(self._spin_once())

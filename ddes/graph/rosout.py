@@ -208,13 +208,30 @@ class NodeLogger:
                 return
             self._last[site] = now
         text = str(msg) % args if args else str(msg)
+        self._emit(level, text, frame.f_code.co_filename.rsplit("/", 1)[-1],
+                   _qualified(frame) if qualify else frame.f_code.co_name, frame.f_lineno,
+                   frame.f_code.co_filename)
+
+    def log_at(self, level: int, text: str, file: str, function: str, line: int,
+               logger: str = "") -> None:
+        """Log one line whose call site is given, not found on the stack: a line an external
+        node (a C++ process, docs/external-nodes.md) logged, already formatted.  ``logger``
+        (roscpp's ``ros.<package>``) is accepted for the record; the level test is this
+        node's."""
+        if level < self.level:
+            return
+        self._emit(level, text, file.rsplit("/", 1)[-1], function, line, file)
+
+    def _emit(self, level: int, text: str, file: str, function: str, line_no: int,
+              path: str) -> None:
+        node = self.node
         world = node.world
         if world.display_paths:
             text = show_paths(text, world.display_paths)
         if "0x" in text:  # an address (<X object at 0x7f…>) differs in every process
             text = scrub_addresses(text)
-        world.record("log", node.name, level=LEVEL_NAMES[level], msg=text,
-                     file=frame.f_code.co_filename.rsplit("/", 1)[-1], line=frame.f_lineno)
+        world.record("log", node.name, level=LEVEL_NAMES[level], msg=text, file=file,
+                     line=line_no)
         if self._pub is not None and self._log_cls is not None and not node.is_shutdown():
             stamp = node.get_rostime()
             m = self._log_cls()
@@ -222,9 +239,9 @@ class NodeLogger:
             m.level = level
             m.name = node.name
             m.msg = text
-            m.file = frame.f_code.co_filename.rsplit("/", 1)[-1]
-            m.function = _qualified(frame) if qualify else frame.f_code.co_name
-            m.line = frame.f_lineno
+            m.file = file
+            m.function = function
+            m.line = line_no
             m.topics = [p.resolved_name for p in node._published]
             self._pub.publish(m)
         if self.style == "roscpp":
@@ -233,8 +250,7 @@ class NodeLogger:
             wall = world.env.now / 1e9
             ros = node.get_time() if node.use_sim_time else None
             line = format_line(level, text, wall, ros)
-        emit_line(node, level, text, line,
-                  where=(frame.f_code.co_filename, frame.f_lineno, frame.f_code.co_name))
+        emit_line(node, level, text, line, where=(path, line_no, function))
 
 
 def _qualified(frame: Any) -> str:
