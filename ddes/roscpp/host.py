@@ -135,8 +135,21 @@ class ExternalNode:
         """Fires with the exit code when the process has ended."""
         return self._done
 
-    def start(self) -> simpy.Process:
-        """Start the process now; its main conversation runs as a kernel process."""
+    def start(self) -> Node | None:
+        """Start the process and run it now until it first blocks, as a rospy script starts
+        (:func:`ddes.compat.scripts.run_script`): its node once ``ros::init`` made it, or None
+        when the process ended (or was stopped) before that.  The rest of its main
+        conversation runs as a kernel process; :attr:`done` fires at its end."""
+        self._spawn()
+        gen = self._main()
+        try:
+            first = next(gen)
+        except StopIteration:
+            return self.node
+        self.world.env.process(_drive(gen, first))
+        return self.node
+
+    def _spawn(self) -> None:
         to_child_r, to_child_w = os.pipe()
         from_child_r, from_child_w = os.pipe()
         env = dict(os.environ if self.env is None else self.env)
@@ -164,7 +177,6 @@ class ExternalNode:
         proc = self._proc
         self._finalizer = weakref.finalize(self, _kill, proc)
         _registry(self.world).append(self)
-        return self.world.env.process(self._main())
 
     def close(self) -> None:
         """Stop the process (if it still runs) and free its pipes."""
@@ -862,6 +874,21 @@ class _ProcessEnded(Exception):
 
 class _Watchdog(Exception):
     """The process held the floor past the wall budget."""
+
+
+def _drive(gen: Generator[simpy.Event, Any, Any], event: simpy.Event
+           ) -> Generator[simpy.Event, Any, Any]:
+    """Go on with ``gen`` from the event it yielded first (its first steps ran already)."""
+    try:
+        while True:
+            try:
+                value = yield event
+            except Exception as exc:  # noqa: BLE001 - handed on to the conversation
+                event = gen.throw(exc)
+                continue
+            event = gen.send(value)
+    except StopIteration as stop:
+        return stop.value
 
 
 def _fired(env: simpy.Environment, value: object) -> simpy.Event:
