@@ -19,6 +19,7 @@ user's frames, so a failing run has the same digest on every machine.
 
 from __future__ import annotations
 
+import os
 import sys
 import traceback
 from collections.abc import Iterator
@@ -26,6 +27,8 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from pathlib import PurePath
 from types import TracebackType
+
+import simpy
 
 __all__ = [
     "NODE_OF_PROCESS",
@@ -43,7 +46,11 @@ NODE_OF_PROCESS = "ddes_node"
 #: The strictness a new World takes when none is given (see :func:`strict_worlds`).
 STRICT_DEFAULT: ContextVar[bool] = ContextVar("ddes_strict_default", default=False)
 
-_LIBRARY_PARTS = ("ddes", "simpy")
+#: Where ddes's own code and SimPy's are on this machine (found from the modules, not from
+#: folder names: a clone of the repository may itself be called ``ddes``).
+_DDES_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_PACKAGES_DIR = os.path.join(_DDES_DIR, "packages")
+_SIMPY_DIR = os.path.dirname(os.path.abspath(simpy.__file__))
 
 
 @contextmanager
@@ -61,14 +68,17 @@ def strict_worlds(strict: bool = True) -> Iterator[None]:
 
 
 def is_library_file(filename: str) -> bool:
-    """True for a file of ddes (its code, not its bundled packages' node code) or SimPy."""
-    parts = PurePath(filename).parts
-    for i, part in enumerate(parts[:-1]):
-        if part == "simpy":
-            return True
-        if part == "ddes" and (i + 1 >= len(parts) - 1 or parts[i + 1] != "packages"):
-            return True
-    return False
+    """True for a file of ddes (its code, not its bundled packages' node code) or SimPy, by
+    where those are installed: a user's file in a folder that happens to be called ``ddes``
+    keeps its frames."""
+    path = os.path.abspath(filename)
+    if _inside(path, _SIMPY_DIR):
+        return True
+    return _inside(path, _DDES_DIR) and not _inside(path, _PACKAGES_DIR)
+
+
+def _inside(path: str, folder: str) -> bool:
+    return path.startswith(folder + os.sep)
 
 
 def user_frames(tb: TracebackType | None) -> TracebackType | None:

@@ -7,6 +7,8 @@ from collections.abc import Generator
 from pathlib import PurePath
 from typing import Any
 
+from pathlib import Path
+
 import pytest
 
 import ddes
@@ -132,11 +134,36 @@ def test_strictness_defaults_from_the_context() -> None:
     assert world.strict
 
 
-def test_library_files_are_told_from_user_files() -> None:
-    assert is_library_file("/x/site-packages/ddes/graph/node.py")
-    assert is_library_file("/x/site-packages/simpy/core.py")
+def test_library_files_are_told_from_user_files(tmp_path: Path) -> None:
+    """By where ddes and SimPy are installed, not by folder names."""
+    import simpy
+
+    here = Path(ddes.__file__).resolve().parent
+    assert is_library_file(str(here / "graph" / "node.py"))
+    assert is_library_file(str(Path(simpy.__file__).parent / "core.py"))
     assert not is_library_file("/home/me/ddes_homework/talker.py")
-    assert not is_library_file("/x/site-packages/ddes/packages/rospy_tutorials/nodes.py")
+    assert not is_library_file(str(here / "packages" / "rospy_tutorials" / "nodes.py"))
+    # a clone (or a homework folder) called ddes, with a simpy folder inside: the user's
+    assert not is_library_file("/home/me/ddes/talker.py")
+    assert not is_library_file("/home/me/ddes/exercises/ex1/scripts/talker.py")
+    assert not is_library_file("/home/me/simpy/sim.py")
+
+
+def test_a_script_in_a_folder_called_ddes_keeps_its_traceback(tmp_path: Path) -> None:
+    from ddes.compat.scripts import run_script
+
+    folder = tmp_path / "ddes" / "scripts"
+    folder.mkdir(parents=True)
+    script = folder / "crash.py"
+    script.write_text("import rospy\nrospy.init_node('crash')\nraise ValueError('boom')\n")
+    world = ddes.World(strict=False)
+    lines: list[str] = []
+    world.log_output = lambda line, _level: lines.append(line)
+    printed: list[str] = []
+    run_script(world, script, print_line=lambda t, _e: printed.append(t))
+    world.run(until=0.1)
+    text = "\n".join(lines + printed)
+    assert 'File "crash.py", line 3, in <module>' in text, text
 
 
 def test_a_failing_run_has_the_same_digest_on_every_path() -> None:
