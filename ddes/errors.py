@@ -106,6 +106,11 @@ class RunawayError(WorldError):
     """
 
 
+class ForgottenYieldError(RunawayError):
+    """A loop called a blocking call (``rate.sleep()``) again and again without yielding its
+    event, so simulated time never moved: the ``yield`` in front of it is missing."""
+
+
 class BadYieldError(DdesTypeError):
     """A process or generator callback yielded something that is not an event (``yield 5``)."""
 

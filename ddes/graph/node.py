@@ -343,8 +343,14 @@ class Node:
         return self.callbacks.spin_once()
 
     def process(self, generator: ProcessGenerator) -> simpy.Process:
-        """Start a process belonging to this node (e.g. its main loop)."""
+        """Start a process belonging to this node (e.g. its main loop).
+
+        ``generator`` is what calling a generator function returns: ``node.process(main())``.
+        The function itself, or what a function without ``yield`` returned, is refused with a
+        :class:`~ddes.errors.DdesTypeError` naming the fix."""
         self.check_alive("start a process")
+        if not hasattr(generator, "throw"):
+            raise DdesTypeError(_not_a_generator(generator))
         proc = self.world.env.process(generator)
         setattr(proc, NODE_OF_PROCESS, self)  # its failure is this node's crash
         return proc
@@ -556,3 +562,22 @@ class Node:
     def __repr__(self) -> str:
         state = "shutdown" if self._shutdown else "running"
         return f"<Node {self.name} {state}>"
+
+
+def _not_a_generator(value: object) -> str:
+    """Why ``node.process(value)`` is refused, and the fix."""
+    if callable(value):
+        name = getattr(value, "__name__", "main")
+        code = getattr(value, "__code__", None)
+        if code is not None and code.co_flags & 0x20:  # CO_GENERATOR: it only was not called
+            return (f"node.process({name}) got the function itself: call it, "
+                    f"node.process({name}())")
+        return (f"node.process({name}) got a function without `yield`: a node's process is a "
+                f"generator that yields its waits (yield rate.sleep(), yield node.sleep(0.5)); "
+                f"put a yield in {name} and start it with node.process({name}())")
+    if value is None:
+        return ("node.process(None): the function called returned None, so it has no `yield`; "
+                "a node's process is a generator that yields its waits (yield rate.sleep(), "
+                "yield node.sleep(0.5)): put a yield in it and pass node.process(main())")
+    return (f"node.process() needs a generator (node.process(main()) with a `yield` in main), "
+            f"got {type(value).__name__} {value!r:.60}")

@@ -70,6 +70,9 @@ class NsEnvironment(simpy.Environment):
         #: Events processed at the current instant after its first: the livelock count, and
         #: with ``now_ns`` the kernel's progress (see :meth:`progress`).
         self._same_instant = 0
+        #: ``[now_ns, events at now_ns, calls]``: blocking calls made since the kernel's last
+        #: step (:func:`ddes.time.sleep.must_yield` stops a loop whose ``yield`` is missing).
+        self.unyielded: list[int] = [-1, -1, 0]
 
     def progress(self) -> tuple[int, int]:
         """A mark that grows with every event processed: ``(now_ns, events at now_ns after the

@@ -21,6 +21,7 @@ Both end in :class:`~ddes.errors.RunawayError` with the node, the callback
 
 from __future__ import annotations
 
+import os
 import signal
 import threading
 import time
@@ -46,7 +47,19 @@ DEFAULT_WALL_BUDGET = 10.0
 #: (:mod:`ddes.grading.determinism`), and a budget must keep measuring wall time.
 _monotonic = time.monotonic
 
-_LIBRARY_MARKERS = ("/ddes/", "/simpy/", "\\ddes\\", "\\simpy\\")
+#: Where ddes's code (less its bundled packages' node code) and SimPy's are installed: the
+#: frames that are not the user's (found from the modules, not from folder names, which a clone
+#: of the repository may share).
+_DDES_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_PACKAGES_DIR = os.path.join(_DDES_DIR, "packages")
+_SIMPY_DIR = os.path.dirname(os.path.abspath(simpy.__file__))
+
+
+def _library_path(path: str) -> bool:
+    path = os.path.abspath(path)
+    if path.startswith(_SIMPY_DIR + os.sep):
+        return True
+    return path.startswith(_DDES_DIR + os.sep) and not path.startswith(_PACKAGES_DIR + os.sep)
 
 
 class WallBudgetExceeded(BaseException):  # noqa: N818 - an internal signal, not an error type
@@ -129,7 +142,7 @@ def _where(frames: list[FrameType]) -> tuple[str, str]:
     callback = "unknown code"
     for frame in reversed(frames):
         path = frame.f_code.co_filename
-        if not any(m in path for m in _LIBRARY_MARKERS):
+        if not _library_path(path):
             name = getattr(frame.f_code, "co_qualname", frame.f_code.co_name)
             callback = f"{name} ({path.rsplit('/', 1)[-1]}:{frame.f_lineno})"
             break

@@ -35,6 +35,12 @@ class NsEnv(Protocol):
     """The SimPy environment of a world as the clocks use it: ``now`` is integer
     nanoseconds (the kernel's ``NsEnvironment``)."""
 
+    #: The kernel's time as a plain attribute, and its events at that time after the first.
+    now_ns: int
+    _same_instant: int
+    #: Blocking calls since the kernel's last step (:func:`ddes.time.sleep.must_yield`).
+    unyielded: list[int]
+
     @property
     def now(self) -> int: ...
 

@@ -26,7 +26,14 @@ from ddes.errors import DdesTypeError, DdesValueError, ROSTimeMovedBackwardsExce
 from ddes.time.clock import Clock, ClockOwner, KernelClock
 from ddes.time.rospy_calls import REQUIRED, arg_text, call_text, missing_node
 from ddes.time.rostime import Duration, WallDuration
-from ddes.time.sleep import MUST_YIELD, _sim_sleep, duration_sleep, must_yield
+from ddes.time.sleep import (
+    FORGOTTEN_YIELD_CALLS,
+    MUST_YIELD,
+    _sim_sleep,
+    duration_sleep,
+    forgotten_yield,
+    must_yield,
+)
 
 __all__ = ["Rate", "RoscppRate", "WallRate", "check_hz", "roscpp_period_ns"]
 
@@ -139,6 +146,16 @@ class Rate:
             last += period
             self.last_time_ns = curr if curr - last > 2 * period else last
             ev = env.timeout(remaining if remaining > 0 else 0)
+            setattr(ev, MUST_YIELD, "rate.sleep()")  # must_yield, inlined
+            box = env.unyielded
+            if box[0] == curr and box[1] == env._same_instant:
+                box[2] += 1
+                if box[2] >= FORGOTTEN_YIELD_CALLS:
+                    box[2] = 0
+                    forgotten_yield("rate.sleep()", curr)
+            else:
+                box[0], box[1], box[2] = curr, env._same_instant, 1
+            return ev
         else:
             curr = clock.now_ns()
             remaining = self._remaining(curr)
@@ -147,8 +164,7 @@ class Rate:
                 ev = clock.env.timeout(remaining if remaining > 0 else 0)
             else:
                 ev = clock.env.process(self._sim_sleep(curr, remaining))
-        setattr(ev, MUST_YIELD, "rate.sleep()")
-        return ev
+        return must_yield(ev, "rate.sleep()")
 
     def _sim_sleep(self, curr: int, remaining: int) -> Generator[simpy.Event, object, None]:
         try:

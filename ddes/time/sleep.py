@@ -12,10 +12,11 @@
 from __future__ import annotations
 
 from collections.abc import Generator
+from typing import Any
 
 import simpy
 
-from ddes.errors import DdesTypeError, ROSTimeMovedBackwardsException
+from ddes.errors import DdesTypeError, ForgottenYieldError, ROSTimeMovedBackwardsException
 from ddes.time.clock import Clock, ClockOwner
 from ddes.time.rospy_calls import REQUIRED, arg_text, missing_node
 from ddes.time.units import DurationLike, duration_to_ns
@@ -27,10 +28,38 @@ __all__ = ["MUST_YIELD", "duration_sleep", "must_yield", "sleep", "sleep_ns"]
 MUST_YIELD = "ddes_must_yield"
 
 
+#: Blocking calls in a row, with the kernel taking no step between them, after which the loop
+#: making them is stopped as one whose ``yield`` is missing (a loop that yields runs the kernel
+#: between its calls; one that does not spins at one instant forever).
+FORGOTTEN_YIELD_CALLS = 100_000
+
+
 def must_yield(event: simpy.Event, label: str) -> simpy.Event:
-    """Mark ``event`` as the result of the blocking call ``label`` (``"rate.sleep()"``)."""
+    """Mark ``event`` as the result of the blocking call ``label`` (``"rate.sleep()"``).
+
+    :data:`FORGOTTEN_YIELD_CALLS` of them in a row with no kernel step between raise
+    :class:`~ddes.errors.ForgottenYieldError` naming the missing ``yield``."""
     setattr(event, MUST_YIELD, label)
+    env: Any = event.env
+    box = getattr(env, "unyielded", None)
+    if box is not None:
+        now, same = env.now_ns, env._same_instant
+        if box[0] == now and box[1] == same:
+            n = box[2] = box[2] + 1
+            if n >= FORGOTTEN_YIELD_CALLS:
+                forgotten_yield(label, now)
+        else:
+            box[0], box[1], box[2] = now, same, 1
     return event
+
+
+def forgotten_yield(label: str, now_ns: int) -> None:
+    """Raise the error of a loop that calls ``label`` without yielding it."""
+    raise ForgottenYieldError(
+        f"{label} was called {FORGOTTEN_YIELD_CALLS} times in a row at simulated "
+        f"t={now_ns / 1e9:.9f} s without the kernel running in between: a blocking call returns "
+        f"an event that waits only when it is yielded. Write `yield {label}` in a generator "
+        f"(def main(): ... yield {label}) and start it with node.process(main())")
 
 
 def _sim_sleep(clock: Clock, d_ns: int) -> Generator[simpy.Event, object, bool]:
