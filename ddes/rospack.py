@@ -15,7 +15,10 @@ The environment is never read behind the caller's back: only
 :meth:`RosPack.from_environment` (or an explicit ``use_env=True``) adds the
 folders of ``DDES_PACKAGE_PATH`` (``os.pathsep``-separated), after the
 explicit ones.  ddes does not read ``ROS_PACKAGE_PATH``, so a machine's real
-ROS install never changes a simulation.
+ROS install never changes a simulation.  The ``ddes`` command's path
+(:func:`command_package_path`) adds what a ROS user's ``source devel/setup.bash`` would: the
+catkin workspace it is started in (its ``src/``) and the folder it is started in when that holds
+packages.
 """
 
 from __future__ import annotations
@@ -29,7 +32,8 @@ from xml.parsers import expat
 from ddes.errors import DdesError, ResourceLimitError
 
 __all__ = ["BUNDLED_PATH", "DEPEND_TAGS", "MAX_MANIFEST_BYTES", "PACKAGE_PATH_VAR",
-           "InvalidManifest", "PackageNotFound", "RosPack", "env_package_path", "is_package"]
+           "InvalidManifest", "PackageNotFound", "RosPack", "command_package_path",
+           "env_package_path", "is_package", "working_folder_paths", "workspace_of"]
 
 #: Folder of the packages that ship with ddes.
 BUNDLED_PATH = Path(__file__).resolve().parent / "packages"
@@ -64,6 +68,79 @@ class InvalidManifest(DdesError):
 def env_package_path(environ: Mapping[str, str]) -> list[Path]:
     """The folders of ``DDES_PACKAGE_PATH`` in ``environ`` (``os.pathsep``-separated)."""
     return [Path(p) for p in environ.get(PACKAGE_PATH_VAR, "").split(os.pathsep) if p]
+
+
+#: How far up from the working folder a catkin workspace is looked for, and the most entries
+#: looked at below it for packages (a home folder is not searched).
+WORKSPACE_UP = 32
+LOOK_BELOW_ENTRIES = 2_000
+
+
+def workspace_of(folder: Path) -> Path | None:
+    """The catkin workspace ``folder`` is in (it or an ancestor holds ``src/`` beside
+    ``devel/``, ``build/`` or ``.catkin_workspace``, or ``src/CMakeLists.txt``), or None."""
+    here = Path(folder).absolute()
+    for _ in range(WORKSPACE_UP):
+        src = here / "src"
+        if src.is_dir() and any((here / m).exists() for m in (
+                "devel", "build", ".catkin_workspace", "src/CMakeLists.txt")):
+            return here
+        if here.parent == here:
+            return None
+        here = here.parent
+    return None
+
+
+def working_folder_paths(cwd: str | os.PathLike[str]) -> list[Path]:
+    """The package folders a ROS user expects found from the folder a command starts in, as
+    ``source devel/setup.bash`` finds them: the catkin workspace's ``src/`` (``cwd`` or an
+    ancestor being the workspace, or inside it), and ``cwd`` itself when it is a package or
+    holds packages one or two levels down (an exercise folder).  A large folder (a home) is not
+    searched: only its first :data:`LOOK_BELOW_ENTRIES` entries are looked at."""
+    here = Path(cwd).absolute()
+    found: list[Path] = []
+    ws = workspace_of(here)
+    if ws is not None:
+        found.append(ws / "src")
+    if is_package(here) or _packages_below(here):
+        if not any(here == p or p in here.parents for p in found):
+            found.append(here)
+    return found
+
+
+def _packages_below(folder: Path) -> bool:
+    seen = 0
+    level = [folder]
+    for _depth in range(2):
+        nxt: list[Path] = []
+        for base in level:
+            try:
+                entries = sorted(os.scandir(base), key=lambda e: e.name)
+            except OSError:
+                continue
+            for e in entries:
+                seen += 1
+                if seen > LOOK_BELOW_ENTRIES:
+                    return False
+                if e.name.startswith(".") or not e.is_dir():
+                    continue
+                child = Path(e.path)
+                if (child / "package.xml").is_file():
+                    return True
+                nxt.append(child)
+        level = nxt
+    return False
+
+
+def command_package_path(environ: Mapping[str, str], cwd: str | os.PathLike[str]) -> list[Path]:
+    """The package path of a ``ddes`` command: the folders of ``DDES_PACKAGE_PATH``, then those
+    found from the working folder (:func:`working_folder_paths`).  ddes's bundled packages
+    come after these in every :class:`RosPack`."""
+    paths = env_package_path(environ)
+    for p in working_folder_paths(cwd):
+        if p not in paths:
+            paths.append(p)
+    return paths
 
 
 def is_package(folder: Path) -> bool:
@@ -157,9 +234,10 @@ class RosPack:
         except KeyError:
             searched = ", ".join(str(p) for p in self.paths) or "(empty path)"
             raise PackageNotFound(
-                f"package '{name}' not found; searched: {searched}. Pass its parent folder "
-                "on the package path (RosPack(paths), World(package_path=[...]), or "
-                "DDES_PACKAGE_PATH read by RosPack.from_environment())"
+                f"package '{name}' not found; searched: {searched}. Start ddes in the folder "
+                "that holds the package (or in its catkin workspace), or put its parent folder "
+                "on the package path: DDES_PACKAGE_PATH=/path/to/parent (in Python: "
+                "RosPack(paths), World(package_path=[...]))"
             ) from None
 
     def __contains__(self, name: str) -> bool:

@@ -113,3 +113,56 @@ def test_a_package_is_named_by_its_package_xml_not_its_folder(tmp_path: Path) ->
     assert rp.get_path("defs") == tmp_path / "defs"
     with pytest.raises(PackageNotFound):
         rp.get_path("folder_name")
+
+
+def _pkg(folder: Path, name: str) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "package.xml").write_text(f"<package><name>{name}</name></package>")
+    return folder
+
+
+def test_a_catkin_workspace_is_found_from_anywhere_inside_it(tmp_path: Path) -> None:
+    from ddes.rospack import command_package_path, working_folder_paths, workspace_of
+
+    ws = tmp_path / "catkin_ws"
+    pkg = _pkg(ws / "src" / "smb_highlevel_controller", "smb_highlevel_controller")
+    (ws / "devel").mkdir()
+    for start in (ws, ws / "src", pkg, ws / "devel"):
+        assert workspace_of(start) == ws.absolute(), start
+        assert working_folder_paths(start)[0] == (ws / "src").absolute()
+    rospack = RosPack(command_package_path({}, pkg))
+    assert rospack.get_path("smb_highlevel_controller") == pkg.absolute()
+
+
+def test_an_exercise_folder_holding_a_package_is_on_the_path(tmp_path: Path) -> None:
+    from ddes.rospack import command_package_path
+
+    exercise = tmp_path / "ex4b"
+    _pkg(exercise / "smb_follow_path", "smb_follow_path")
+    paths = command_package_path({"DDES_PACKAGE_PATH": "/elsewhere"}, exercise)
+    assert paths == [Path("/elsewhere"), exercise.absolute()]  # the variable first
+    assert RosPack(paths).get_path("smb_follow_path") == (exercise / "smb_follow_path").absolute()
+    # a package folder itself
+    assert command_package_path({}, exercise / "smb_follow_path") == [
+        (exercise / "smb_follow_path").absolute()]
+
+
+def test_a_folder_without_packages_adds_nothing_and_a_big_one_is_not_searched(
+        tmp_path: Path) -> None:
+    from ddes.rospack import LOOK_BELOW_ENTRIES, command_package_path
+
+    assert command_package_path({}, tmp_path) == []
+    home = tmp_path / "home"
+    for i in range(LOOK_BELOW_ENTRIES + 5):
+        (home / f"d{i:05d}").mkdir(parents=True)
+    _pkg(home / "zzz" / "pkg", "pkg")  # sorted after the first entries looked at
+    assert command_package_path({}, home) == []
+
+
+def test_package_not_found_says_where_it_looked_and_what_to_do(tmp_path: Path) -> None:
+    with pytest.raises(PackageNotFound) as info:
+        RosPack([tmp_path], bundled=False).get_path("smb_follow_path")
+    text = str(info.value)
+    assert f"searched: {tmp_path}" in text
+    assert "Start ddes in the folder that holds the package" in text
+    assert "DDES_PACKAGE_PATH=/path/to/parent" in text

@@ -105,13 +105,13 @@ def _history_file() -> str | None:
 def main(args: argparse.Namespace) -> int:
     """``ddes console [--script FILE] [--keep-going] [--seed N] [--no-core] [--rtf R]
     [--until S]``."""
-    from ddes.rospack import env_package_path
+    from ddes.rospack import command_package_path
     from ddes.world import Console, World
 
     lines = _read_script(args.script) if args.script is not None else None
     interactive = lines is None and sys.stdin.isatty()
     # The one place the environment is read: when the command starts.
-    world = World(seed=args.seed, package_path=env_package_path(os.environ))
+    world = World(seed=args.seed, package_path=command_package_path(os.environ, os.getcwd()))
     console = Console(world, core=not args.no_core,
                       rtf=args.rtf if interactive else None, until=args.until)
 

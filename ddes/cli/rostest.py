@@ -18,10 +18,10 @@ __all__ = ["register"]
 
 def _main(args: argparse.Namespace) -> int:
     from ddes.console.rostest import run_rostest
-    from ddes.rospack import RosPack
+    from ddes.rospack import RosPack, command_package_path
     from ddes.world import World
 
-    rospack = RosPack.from_environment(os.environ)
+    rospack = RosPack(command_package_path(os.environ, os.getcwd()))
     def out(line: str) -> None:
         sys.stdout.write(line + "\n")
 

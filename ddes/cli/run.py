@@ -78,10 +78,10 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
     """
     from ddes.launch import load_launch, resolve_launch_args
     from ddes.launch.runtime import LaunchRunner, LogRouter
-    from ddes.rospack import env_package_path
+    from ddes.rospack import command_package_path
     from ddes.world import World as FacadeWorld
 
-    world = FacadeWorld(seed=seed, package_path=env_package_path(os.environ))
+    world = FacadeWorld(seed=seed, package_path=command_package_path(os.environ, os.getcwd()))
     rospack = world.rospack
     path, args = resolve_launch_args(list(argv), rospack)
     plan = load_launch(path, args, rospack, anon_seed=world.rng_for("roslaunch"))
@@ -98,7 +98,7 @@ def run_launch(argv: Sequence[str], *, until: float, seed: int = 0,
 def run_scenario(path: str | Path, *, until: float, seed: int = 0,
                  out: Callable[[str], None] = _print_line) -> World:
     """Run a Python scenario file (``def scenario(world)``) for ``until`` simulated seconds."""
-    from ddes.rospack import env_package_path
+    from ddes.rospack import command_package_path
     from ddes.world import World as FacadeWorld
 
     file = Path(path)
@@ -113,7 +113,7 @@ def run_scenario(path: str | Path, *, until: float, seed: int = 0,
     if not callable(scenario):
         raise ROSConsoleError(f"{path} must define 'def scenario(world): ...' (it sets up the "
                               "world's nodes; ddes run then runs the world)")
-    world = FacadeWorld(seed=seed, package_path=env_package_path(os.environ))
+    world = FacadeWorld(seed=seed, package_path=command_package_path(os.environ, os.getcwd()))
     world.log_output = lambda line, level: out(line)
     scenario(world)
     world.run(until=until)
@@ -138,7 +138,7 @@ def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
     arguments (``add_two_ints_client.py 3 4``, ``talker.py chatter:=/talk``).
     """
     from ddes.compat.scripts import run_script
-    from ddes.rospack import env_package_path
+    from ddes.rospack import command_package_path
     from ddes.world import World as FacadeWorld
 
     commands: list[tuple[Path, list[str]]] = []
@@ -151,7 +151,7 @@ def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
             commands[-1][1].append(word)
         else:
             raise ROSConsoleError(f"{word!r} comes before any script: ddes run a.py [args] b.py")
-    world = FacadeWorld(seed=seed, package_path=env_package_path(os.environ))
+    world = FacadeWorld(seed=seed, package_path=command_package_path(os.environ, os.getcwd()))
     world.log_output = lambda line, level: out(line)
     for path, args in commands:
         run_script(world, path, args, print_line=lambda text, _stderr: out(text))

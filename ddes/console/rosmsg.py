@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING
 from ddes.errors import InvalidMsgSpec, MsgNotFound, ResourceLimitError, ROSConsoleError
 from ddes.msg.registry import MessageRegistry
 from ddes.msg.spec import MsgSpec, bare_msg_type, is_builtin
+from ddes.rospack import command_package_path
 
 if TYPE_CHECKING:
     from ddes.console.tooling import ToolContext
@@ -279,7 +280,8 @@ def main(args: argparse.Namespace) -> int:
     if handler is None:
         print(_usage(args.mode))
         return 0
-    registry = MessageRegistry.from_environment()  # the ddes command starts here
+    # the ddes command starts here: the package path of DDES_PACKAGE_PATH and the working folder
+    registry = MessageRegistry(command_package_path(os.environ, os.getcwd()))
     try:
         return int(handler(args, registry))
     except _ToolError as exc:
