@@ -40,6 +40,9 @@ __all__ = ["DEFAULT_STEP_WALL_S", "ExternalNode", "ExternalNodeError", "close_al
 
 #: Wall-clock seconds a process may hold the floor before the watchdog stops it.
 DEFAULT_STEP_WALL_S = 10.0
+#: Wall-clock seconds from starting the process to its HELLO (loading a program takes longer
+#: on a loaded machine than any step should).
+DEFAULT_STARTUP_WALL_S = 60.0
 _KEY = "ddes.roscpp.external_nodes"
 
 _LOG_LEVELS = (1, 2, 4, 8, 16)  # rosgraph_msgs/Log DEBUG INFO WARN ERROR FATAL, by the frame's 0..4
@@ -237,8 +240,8 @@ class ExternalNode:
                 need -= len(chunk)
         return b"".join(chunks)
 
-    def _read_frame(self) -> tuple[int, bytes]:
-        deadline = time.monotonic() + self.step_wall_s
+    def _read_frame(self, budget: float | None = None) -> tuple[int, bytes]:
+        deadline = time.monotonic() + (self.step_wall_s if budget is None else budget)
         kind, size = P.split_header(self._read_exact(P.HEADER_SIZE, deadline))
         payload = self._read_exact(size, deadline) if size else b""
         return kind, payload
@@ -310,7 +313,7 @@ class ExternalNode:
         main = _Conversation(0)
         self._stack.append(main)
         try:
-            kind, payload = self._read_frame()
+            kind, payload = self._read_frame(max(self.step_wall_s, DEFAULT_STARTUP_WALL_S))
             if kind != P.HELLO:
                 raise ProtocolError(f"protocol error: the first frame must be HELLO, got "
                                     f"{P.KINDS[kind]}")

@@ -1,0 +1,614 @@
+"""C++ headers for ddes's message, service and action types, in gencpp's layout.
+
+For each message ``pkg/Msg`` of a :class:`~ddes.msg.MessageRegistry` this writes
+``pkg/Msg.h``: ``template <class ContainerAllocator> struct Msg_`` with gencpp's field types
+(``uint8_t``, ``std::basic_string<…>``, ``std::vector<…>``, ``boost::array<T, N>``,
+``ros::Time``, nested ``::pkg::Type_<ContainerAllocator>``), constructors that zero every
+field, the constants (integers as enumerators, the others as static members), the
+``Msg``/``MsgPtr``/``MsgConstPtr`` typedefs, ``operator<<`` (gencpp's print format),
+``operator==``/``!=``, the message traits (md5, type, full definition, fixed size, header)
+and the ``Serializer`` specialisation.  A service ``pkg/Srv`` gives ``pkg/SrvRequest.h``,
+``pkg/SrvResponse.h`` and ``pkg/Srv.h`` (the service struct and its service traits, also on
+the request and response types); an action ``pkg/Act`` its seven messages (the registry
+expands ``.action`` files as genaction does).  The md5 sums and definitions are the
+registry's, so they are those of ddes's Python classes (and of real ROS).
+
+The headers need ddes's runtime headers (``ddes/roscpp/cpp/include``, :data:`INCLUDE_DIR`)
+and Boost's ``shared_ptr`` and ``array``.  Output is deterministic (no dates, no paths) and a
+file is rewritten only when its text changes, so builds stay incremental.
+
+API: :func:`write_headers` (and :func:`generate_headers`, the texts without writing).
+Command line::
+
+    python -m ddes.roscpp.gencpp --out DIR [--package-path DIR ...] [--package PKG ...] [TYPE ...]
+
+``--package-path`` folders are searched first, then ``DDES_PACKAGE_PATH`` (``--no-env``: not),
+then ddes's bundled packages; ``--no-deps`` writes only the types named, ``--list`` prints the
+paths and writes nothing.  Exit status 1 (and ``gencpp: error: ...``) for an unknown type.
+
+Deviations from gencpp, each on purpose: a field or constant whose name is a C++ keyword
+gets a trailing ``_`` (gencpp writes code that does not compile); integer constants whose
+values no single enum can hold (negative ones beside ones above ``INT64_MAX``) are split into
+two anonymous enums (gencpp's one enum does not compile); an empty message also gets
+``operator==`` (so a message holding one compares); a NaN or infinite float constant is
+``std::numeric_limits``' (gencpp writes ``nan``); a definition line holding control
+characters is escaped exactly (gencpp's ``splitlines`` would cut it); plugin headers
+(``include/pkg/plugin/Msg.h``) are not looked for.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from ddes.errors import DdesError, InvalidMsgSpec, MsgNotFound
+from ddes.msg.gentools import all_dependencies
+from ddes.msg.registry import MessageRegistry
+from ddes.msg.spec import Constant, Field, MsgSpec, is_builtin
+
+__all__ = ["INCLUDE_DIR", "GeneratedHeader", "generate_headers", "main", "write_headers"]
+
+#: ddes's roscpp headers (ros/serialization.h, ros/time.h, ...): generated headers need them.
+INCLUDE_DIR = Path(__file__).resolve().parent / "cpp" / "include"
+
+_ALLOC_REBIND = "typename std::allocator_traits<ContainerAllocator>::template rebind_alloc"
+_STRING = f"std::basic_string<char, std::char_traits<char>, {_ALLOC_REBIND}<char> >"
+
+#: gencpp's C++ type of each builtin (``bool`` is a byte, ``byte``/``char`` int8/uint8).
+BUILTIN_CPP: dict[str, str] = {
+    "byte": "int8_t", "char": "uint8_t", "bool": "uint8_t",
+    "int8": "int8_t", "uint8": "uint8_t", "int16": "int16_t", "uint16": "uint16_t",
+    "int32": "int32_t", "uint32": "uint32_t", "int64": "int64_t", "uint64": "uint64_t",
+    "float32": "float", "float64": "double", "string": _STRING,
+    "time": "ros::Time", "duration": "ros::Duration",
+}
+
+_INTEGER = frozenset({"byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32",
+                      "int64", "uint64"})
+_UNSIGNED = frozenset({"char", "uint8", "uint16", "uint32", "uint64"})
+_FLOAT = frozenset({"float32", "float64"})
+
+#: C++ keywords (and alternative tokens); a field or constant named so gets a trailing '_'.
+CPP_KEYWORDS = frozenset("""
+alignas alignof and and_eq asm auto bitand bitor bool break case catch char char8_t char16_t
+char32_t class compl concept const consteval constexpr constinit const_cast continue co_await
+co_return co_yield decltype default delete do double dynamic_cast else enum explicit export
+extern false float for friend goto if inline int long mutable namespace new noexcept not
+not_eq nullptr operator or or_eq private protected public register reinterpret_cast requires
+return short signed sizeof static static_assert static_cast struct switch template this
+thread_local throw true try typedef typeid typename union unsigned using virtual void
+volatile wchar_t while xor xor_eq
+""".split())
+
+_BANNER = "// Generated by ddes (ddes.roscpp.gencpp) from {what}\n// DO NOT EDIT!\n"
+
+
+def _cpp_name(name: str) -> str:
+    return name + "_" if name in CPP_KEYWORDS else name
+
+
+def _angle(inner: str) -> str:
+    """``inner`` as a template argument: spaced so ``<::`` and ``>>`` never form tokens."""
+    return f" {inner} " if inner.startswith("::") or inner.endswith(">") else inner
+
+
+def _message_cpp(full_name: str) -> str:
+    pkg, _, name = full_name.partition("/")
+    return f"::{pkg}::{name}_<ContainerAllocator>"
+
+
+def _element_cpp(base: str) -> str:
+    """The C++ type of one element of base type ``base`` (a builtin or ``pkg/Type``)."""
+    return BUILTIN_CPP[base] if is_builtin(base) else _message_cpp(base)
+
+
+def _field_cpp(f: Field) -> str:
+    elem = _element_cpp(f.base_type)
+    if not f.is_array:
+        return elem
+    if f.array_len is None:
+        return f"std::vector<{_angle(elem)}, {_ALLOC_REBIND}<{_angle(elem)}> >"
+    return f"boost::array<{_angle(elem)}, {f.array_len}>"
+
+
+def _guard(full_name: str) -> str:
+    pkg, _, name = full_name.partition("/")
+    return f"{pkg.upper()}_MESSAGE_{name.upper()}_H"
+
+
+def _c_string(text: str) -> str:
+    """``text`` as the inside of a C++ narrow string literal (UTF-8 bytes kept as they are)."""
+    out: list[str] = []
+    for ch in text:
+        if ch == "\\":
+            out.append("\\\\")
+        elif ch == '"':
+            out.append('\\"')
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\{ord(ch):03o}")  # three octal digits: never eats the next char
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def _definition_literal(full_text: str) -> str:
+    """gencpp's Definition value: each line of the text with its newline, one literal each."""
+    lines = full_text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    if not lines:
+        lines = [""]
+    return "\n".join(f'"{_c_string(line)}\\n"' for line in lines)
+
+
+def _int_literal(value: int, unsigned: bool) -> str:
+    if unsigned:
+        return f"{value}u"
+    if value == -(2 ** 63):
+        return "(-9223372036854775807LL - 1)"
+    return str(value)
+
+
+def _float_literal(value: float, cpp: str) -> str:
+    if math.isnan(value):
+        return f"std::numeric_limits<{cpp}>::quiet_NaN()"
+    if math.isinf(value):
+        sign = "-" if value < 0 else ""
+        return f"{sign}std::numeric_limits<{cpp}>::infinity()"
+    return repr(float(value))
+
+
+@dataclass(frozen=True)
+class _Unit:
+    """One message to write: its spec, md5 sum and full definition text."""
+
+    spec: MsgSpec
+    md5: str
+    full_text: str
+
+
+@dataclass(frozen=True)
+class GeneratedHeader:
+    """One header: its path relative to the output folder (``pkg/Msg.h``) and its text."""
+
+    relpath: str
+    text: str
+
+
+class _Generator:
+    """Writes header texts for messages and services of one registry (memoising per type)."""
+
+    def __init__(self, registry: MessageRegistry) -> None:
+        self.registry = registry
+        self._fixed: dict[str, bool] = {}
+
+    # -- facts -------------------------------------------------------------------------
+    def is_fixed_size(self, spec: MsgSpec) -> bool:
+        """No string and no variable-length array anywhere inside (gencpp's rule)."""
+        known = self._fixed.get(spec.full_name)
+        if known is not None:
+            return known
+        fixed = True
+        for f in spec.fields:
+            if (f.is_array and f.array_len is None) or f.base_type == "string":
+                fixed = False
+                break
+            if not f.is_builtin and not self.is_fixed_size(
+                    self.registry.get_msg_spec(f.base_type)):
+                fixed = False
+                break
+        self._fixed[spec.full_name] = fixed
+        return fixed
+
+    def message_unit(self, type_name: str) -> _Unit:
+        spec = self.registry.get_msg_spec(type_name)
+        return _Unit(spec, self.registry.md5sum(spec.full_name),
+                     self.registry.full_text(spec.full_name))
+
+    # -- a message header ---------------------------------------------------------------
+    def message_header(self, unit: _Unit) -> str:
+        spec = unit.spec
+        pkg, name = spec.package, spec.short_name
+        cls = f"{name}_"
+        full = f"::{pkg}::{cls}<ContainerAllocator>"
+        fields = spec.fields
+        names = [_cpp_name(f.name) for f in fields]
+        out: list[str] = [_BANNER.format(what=f"{spec.full_name}.msg")]
+        guard = _guard(spec.full_name)
+        out += [f"#ifndef {guard}", f"#define {guard}", "",
+                "#include <limits>", "#include <memory>", "#include <string>",
+                "#include <vector>", "",
+                "#include <ros/types.h>", "#include <ros/serialization.h>",
+                "#include <ros/builtin_message_traits.h>", "#include <ros/message_operations.h>",
+                ""]
+        deps = list(dict.fromkeys(f.base_type for f in fields if not f.is_builtin))
+        if deps:
+            out += [f"#include <{d}.h>" for d in deps] + [""]
+
+        # -- the struct
+        out += [f"namespace {pkg}", "{", "template <class ContainerAllocator>",
+                f"struct {cls}", "{", f"  typedef {cls}<ContainerAllocator> Type;", ""]
+        for with_alloc in (False, True):
+            out += self._constructor(cls, fields, names, with_alloc)
+        for f, n in zip(fields, names):
+            out += [f"  typedef {_field_cpp(f)} _{n}_type;", f"  _{n}_type {n};", ""]
+        out += self._constants_in_class(spec.constants)
+        out += [f"  typedef boost::shared_ptr<{_angle(full)}> Ptr;",
+                f"  typedef boost::shared_ptr< {full} const> ConstPtr;", "",
+                f"}};  // struct {cls}", "",
+                f"typedef ::{pkg}::{cls}<std::allocator<void> > {name};", "",
+                f"typedef boost::shared_ptr< ::{pkg}::{name} > {name}Ptr;",
+                f"typedef boost::shared_ptr< ::{pkg}::{name} const> {name}ConstPtr;", ""]
+        out += self._constants_out_of_class(cls, spec.constants)
+
+        # -- operators
+        out += ["template <typename ContainerAllocator>",
+                f"std::ostream& operator<<(std::ostream& s, const {full}& v)", "{",
+                f"  ros::message_operations::Printer<{_angle(full)}>::stream(s, \"\", v);",
+                "  return s;", "}", ""]
+        lhs = f"::{pkg}::{cls}<ContainerAllocator1>"
+        rhs = f"::{pkg}::{cls}<ContainerAllocator2>"
+        equal = " &&\n    ".join(f"lhs.{n} == rhs.{n}" for n in names)
+        out += ["template <typename ContainerAllocator1, typename ContainerAllocator2>",
+                f"bool operator==(const {lhs}& lhs, const {rhs}& rhs)", "{"]
+        if names:
+            out += [f"  return {equal};"]
+        else:
+            out += ["  (void)lhs;", "  (void)rhs;", "  return true;"]
+        out += ["}", "",
+                "template <typename ContainerAllocator1, typename ContainerAllocator2>",
+                f"bool operator!=(const {lhs}& lhs, const {rhs}& rhs)", "{",
+                "  return !(lhs == rhs);", "}", "", f"}}  // namespace {pkg}", ""]
+
+        # -- traits
+        out += ["namespace ros", "{", "namespace message_traits", "{", ""]
+        for trait, value in (("IsMessage", True), ("IsFixedSize", self.is_fixed_size(spec)),
+                             ("HasHeader", spec.has_header())):
+            base = "TrueType" if value else "FalseType"
+            for const in ("", " const"):
+                out += ["template <class ContainerAllocator>",
+                        f"struct {trait}<{_angle(full + const)}> : {base} {{}};", ""]
+        md5 = unit.md5
+        for trait, literal in (("MD5Sum", f'"{md5}"'), ("DataType", f'"{spec.full_name}"'),
+                               ("Definition", _definition_literal(unit.full_text))):
+            out += ["template <class ContainerAllocator>",
+                    f"struct {trait}<{_angle(full)}>", "{", "  static const char* value()",
+                    "  {", f"    return {literal};", "  }", "",
+                    f"  static const char* value(const {full}&) {{ return value(); }}"]
+            if trait == "MD5Sum":
+                out += [f"  static const uint64_t static_value1 = 0x{md5[:16]}ULL;",
+                        f"  static const uint64_t static_value2 = 0x{md5[16:]}ULL;"]
+            out += ["};", ""]
+        out += ["}  // namespace message_traits", "}  // namespace ros", ""]
+
+        # -- serializer
+        out += ["namespace ros", "{", "namespace serialization", "{", "",
+                "template <class ContainerAllocator>",
+                f"struct Serializer<{_angle(full)}>", "{"]
+        if names:
+            out += ["  template <typename Stream, typename T>",
+                    "  inline static void allInOne(Stream& stream, T m)", "  {"]
+            out += [f"    stream.next(m.{n});" for n in names]
+            out += ["  }"]
+        else:
+            out += ["  template <typename Stream, typename T>",
+                    "  inline static void allInOne(Stream&, T)", "  {", "  }"]
+        out += ["", "  ROS_DECLARE_ALLINONE_SERIALIZER", f"}};  // struct {cls}", "",
+                "}  // namespace serialization", "}  // namespace ros", ""]
+
+        # -- printer
+        out += ["namespace ros", "{", "namespace message_operations", "{", "",
+                "template <class ContainerAllocator>", f"struct Printer<{_angle(full)}>", "{"]
+        if names:
+            out += ["  template <typename Stream>",
+                    "  static void stream(Stream& s, const std::string& indent, "
+                    f"const {full}& v)", "  {"]
+            for f, n in zip(fields, names):
+                out += self._print_field(f, n)
+            out += ["  }"]
+        else:
+            out += ["  template <typename Stream>",
+                    f"  static void stream(Stream&, const std::string&, const {full}&)",
+                    "  {", "  }"]
+        out += ["};", "", "}  // namespace message_operations", "}  // namespace ros", "",
+                f"#endif  // {guard}", ""]
+        return "\n".join(out)
+
+    @staticmethod
+    def _constructor(cls: str, fields: Sequence[Field], names: Sequence[str],
+                     with_alloc: bool) -> list[str]:
+        inits: list[str] = []
+        body: list[str] = []
+        for f, n in zip(fields, names):
+            base = f.base_type
+            takes_alloc = base == "string" or not f.is_builtin
+            zero = ("0" if base in _INTEGER else "0.0" if base in _FLOAT
+                    else "false" if base == "bool" else "")
+            if f.is_array:
+                inits.append(f"{n}(_alloc)" if with_alloc and f.array_len is None else f"{n}()")
+                if f.array_len is None:
+                    continue
+                if with_alloc and takes_alloc:
+                    body.append(f"    {n}.assign({_element_cpp(base)}(_alloc));")
+                elif zero:
+                    body.append(f"    {n}.assign({zero});")
+            elif with_alloc and takes_alloc:
+                inits.append(f"{n}(_alloc)")
+            else:
+                inits.append(f"{n}({zero})")
+        head = f"  {cls}(const ContainerAllocator& _alloc)" if with_alloc else f"  {cls}()"
+        lines = [head]
+        for i, init in enumerate(inits):
+            lines.append(f"    {':' if i == 0 else ','} {init}")
+        lines.append("  {")
+        if with_alloc:
+            lines.append("    (void)_alloc;")
+        lines += body
+        lines += ["  }", ""]
+        return lines
+
+    @staticmethod
+    def _constants_in_class(constants: Sequence[Constant]) -> list[str]:
+        if not constants:
+            return []
+        lines: list[str] = []
+        integers = [c for c in constants if c.type in _INTEGER]
+        # one anonymous enum, unless no single underlying type holds every value
+        if (any(int(c.val) < 0 for c in integers)
+                and any(int(c.val) > 2 ** 63 - 1 for c in integers)):
+            groups = [[c for c in integers if int(c.val) < 0],
+                      [c for c in integers if int(c.val) >= 0]]
+        else:
+            groups = [integers] if integers else []
+        for group in groups:
+            lines.append("  enum {")
+            lines += [f"    {_cpp_name(c.name)} = "
+                      f"{_int_literal(int(c.val), c.type in _UNSIGNED)}," for c in group]
+            lines.append("  };")
+            lines.append("")
+        others = [c for c in constants if c.type not in _INTEGER]
+        for c in others:
+            lines.append(f"  static const {BUILTIN_CPP[c.type]} {_cpp_name(c.name)};")
+        if others:
+            lines.append("")
+        return lines
+
+    @staticmethod
+    def _constants_out_of_class(cls: str, constants: Sequence[Constant]) -> list[str]:
+        lines: list[str] = []
+        for c in constants:
+            if c.type in _INTEGER:
+                continue
+            cpp = BUILTIN_CPP[c.type]
+            if c.type == "string":
+                value = f'"{_c_string(str(c.val))}"'
+            elif c.type == "bool":
+                value = "1" if c.val else "0"
+            else:
+                value = _float_literal(float(c.val), cpp)
+            lines += ["template <typename ContainerAllocator>",
+                      f"const {cpp} {cls}<ContainerAllocator>::{_cpp_name(c.name)} = {value};",
+                      ""]
+        return lines
+
+    @staticmethod
+    def _print_field(f: Field, n: str) -> list[str]:
+        elem = _angle(_element_cpp(f.base_type))
+        if f.is_array:
+            # gencpp's format, the extra indent before a nested element's first line included
+            lines = [f'    s << indent << "{f.name}[]" << "\\n";',
+                     f"    for (size_t i = 0; i < v.{n}.size(); ++i)", "    {",
+                     f'      s << indent << "  {f.name}[" << i << "]: ";']
+            step = "  "
+            if not f.is_builtin:
+                lines += ['      s << "\\n";', "      s << indent;"]
+                step = "    "
+            lines += [f'      Printer<{elem}>::stream(s, indent + "{step}", v.{n}[i]);', "    }"]
+            return lines
+        lines = [f'    s << indent << "{f.name}: ";']
+        if not f.is_builtin:
+            lines.append('    s << "\\n";')
+        lines.append(f'    Printer<{elem}>::stream(s, indent + "  ", v.{n});')
+        return lines
+
+    # -- a service header ---------------------------------------------------------------
+    def service_header(self, type_name: str, md5: str) -> str:
+        spec = self.registry.get_srv_spec(type_name)
+        pkg, name = spec.package, spec.short_name
+        guard = _guard(spec.full_name)
+        srv = f"::{pkg}::{name}"
+        out = [_BANNER.format(what=f"{spec.full_name}.srv"),
+               f"#ifndef {guard}", f"#define {guard}", "",
+               "#include <ros/service_traits.h>", "",
+               f"#include <{pkg}/{spec.request.short_name}.h>",
+               f"#include <{pkg}/{spec.response.short_name}.h>", "",
+               f"namespace {pkg}", "{", "", f"struct {name}", "{",
+               f"  typedef {spec.request.short_name} Request;",
+               f"  typedef {spec.response.short_name} Response;",
+               "  Request request;", "  Response response;", "",
+               "  typedef Request RequestType;", "  typedef Response ResponseType;",
+               f"}};  // struct {name}", "", f"}}  // namespace {pkg}", "",
+               "namespace ros", "{", "namespace service_traits", "{", ""]
+        for trait, value in (("MD5Sum", md5), ("DataType", spec.full_name)):
+            out += ["template <>", f"struct {trait}<{_angle(srv)}>", "{",
+                    "  static const char* value()", "  {", f'    return "{value}";', "  }",
+                    f"  static const char* value(const {srv}&) {{ return value(); }}",
+                    "};", ""]
+        for part in ("Request", "Response"):
+            for trait in ("MD5Sum", "DataType"):
+                out += [f"// service_traits::{trait}<{srv}{part}> is the service's",
+                        "template <>", f"struct {trait}<{_angle(srv + part)}>", "{",
+                        f"  static const char* value() {{ return {trait}<{_angle(srv)}>::value(); }}",
+                        f"  static const char* value(const {srv}{part}&) {{ return value(); }}",
+                        "};", ""]
+        out += ["}  // namespace service_traits", "}  // namespace ros", "",
+                f"#endif  // {guard}", ""]
+        return "\n".join(out)
+
+
+def _exists(probe: Callable[[str], object], name: str) -> bool:
+    try:
+        probe(name)
+    except MsgNotFound:
+        return False
+    return True
+
+
+def generate_headers(registry: MessageRegistry, types: Iterable[str] | None = None, *,
+                     packages: Iterable[str] = (),
+                     dependencies: bool = True) -> list[GeneratedHeader]:
+    """The headers for ``types`` and every type of ``packages``, with their dependencies.
+
+    A name in ``types`` is a message, a service or an action (``pkg/Name``; every kind the
+    name has is generated: nav_msgs/GetMap is both a service and an action).  ``types``
+    None and no ``packages``: every message and service of the registry (the seven messages
+    of each action included).  Message types each service, action and message needs are
+    added (unless ``dependencies`` is False: then only the types named, as catkin generates
+    one package's headers and takes the others' from their packages).  Sorted by path;
+    unknown names raise :class:`~ddes.errors.MsgNotFound`, bad definitions
+    :class:`~ddes.errors.InvalidMsgSpec`.
+    """
+    messages: dict[str, None] = {}
+    services: dict[str, None] = {}
+    names = None if types is None else [types] if isinstance(types, str) else list(types)
+    packages = list(packages)
+    if names is None and not packages:
+        messages.update(dict.fromkeys(registry.iter_types("msg")))
+        services.update(dict.fromkeys(registry.iter_types("srv")))
+    for pkg in packages:
+        found = registry.list_types(pkg, "msg") + registry.list_types(pkg, "srv")
+        if not found and not registry.list_types(pkg, "action"):
+            raise MsgNotFound(f"package '{pkg}' defines no message, service or action types")
+        messages.update(dict.fromkeys(registry.list_types(pkg, "msg")))
+        services.update(dict.fromkeys(registry.list_types(pkg, "srv")))
+    for name in names or ():
+        kinds = 0
+        if _exists(registry.get_msg_spec, name):
+            messages[registry.get_msg_spec(name).full_name] = None
+            kinds += 1
+        if _exists(registry.get_srv_spec, name):
+            services[registry.get_srv_spec(name).full_name] = None
+            kinds += 1
+        if _exists(registry.get_action_spec, name):
+            action = registry.get_action_spec(name)
+            messages.update(dict.fromkeys(s.full_name for s in action.messages.values()))
+            kinds += 1
+        if not kinds:
+            raise MsgNotFound(
+                f"no message, service or action type [{name}] on the package path "
+                f"({', '.join(str(p) for p in registry.search_path) or 'empty'})")
+
+    gen = _Generator(registry)
+    units: dict[str, _Unit] = {}
+
+    def add(unit: _Unit) -> None:
+        units.setdefault(unit.spec.full_name, unit)
+        if not dependencies:
+            return
+        for dep in all_dependencies(unit.spec, registry.get_msg_spec):
+            if dep not in units:
+                units[dep] = gen.message_unit(dep)
+
+    for name in messages:
+        add(gen.message_unit(name))
+    out: dict[str, str] = {}
+    for name in services:
+        spec = registry.get_srv_spec(name)
+        cls = registry.get_service_class(name)
+        add(_Unit(spec.request, cls._request_class._md5sum, cls._request_class._full_text))
+        add(_Unit(spec.response, cls._response_class._md5sum, cls._response_class._full_text))
+        out[f"{spec.full_name}.h"] = gen.service_header(name, cls._md5sum)
+    for full_name, unit in units.items():
+        out[f"{full_name}.h"] = gen.message_header(unit)
+    return [GeneratedHeader(path, out[path]) for path in sorted(out)]
+
+
+def _write_if_changed(path: Path, text: str) -> bool:
+    data = text.encode("utf-8")
+    try:
+        if path.read_bytes() == data:
+            return False
+    except OSError:
+        pass
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # a new file renamed over the old one: a parallel build never reads half a header
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return True
+
+
+def write_headers(registry: MessageRegistry, types: Iterable[str] | None,
+                  out_dir: str | os.PathLike[str], *,
+                  packages: Iterable[str] = (), dependencies: bool = True) -> list[Path]:
+    """Write the headers of :func:`generate_headers` under ``out_dir`` (``pkg/Msg.h``).
+
+    A file whose text is already the same is left alone (its time stamp too), so a build
+    recompiles only what changed.  Returns every header's path, sorted, written or not.
+    """
+    root = Path(out_dir)
+    paths: list[Path] = []
+    for header in generate_headers(registry, types, packages=packages,
+                                   dependencies=dependencies):
+        path = root / header.relpath
+        _write_if_changed(path, header.text)
+        paths.append(path)
+    return paths
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m ddes.roscpp.gencpp``: write headers; 0 on success, 1 on a bad type."""
+    parser = argparse.ArgumentParser(
+        prog="python -m ddes.roscpp.gencpp",
+        description="Write gencpp-layout C++ headers for ddes's message, service and action "
+                    "types (and the message types they use).")
+    parser.add_argument("types", nargs="*", metavar="TYPE",
+                        help="pkg/Name of a message, service or action (default: every type, "
+                             "unless --package is given)")
+    parser.add_argument("--out", required=True, metavar="DIR",
+                        help="folder to write pkg/Name.h under")
+    parser.add_argument("--package-path", action="append", default=[], metavar="DIR",
+                        help="a folder of packages, searched before DDES_PACKAGE_PATH and "
+                             "ddes's bundled packages (repeatable)")
+    parser.add_argument("--package", action="append", default=[], metavar="PKG",
+                        help="every message, service and action of package PKG (repeatable)")
+    parser.add_argument("--no-deps", action="store_true",
+                        help="only the types named (not the message types they use)")
+    parser.add_argument("--no-env", action="store_true",
+                        help="ignore DDES_PACKAGE_PATH")
+    parser.add_argument("--list", action="store_true",
+                        help="print the paths the headers would have and write nothing")
+    args = parser.parse_args(argv)
+    try:
+        if args.no_env:
+            registry = MessageRegistry(args.package_path)
+        else:
+            registry = MessageRegistry.from_environment(paths=args.package_path)
+        types = args.types or (None if not args.package else [])
+        if args.list:
+            for header in generate_headers(registry, types, packages=args.package,
+                                           dependencies=not args.no_deps):
+                print(Path(args.out) / header.relpath)
+        else:
+            write_headers(registry, types, args.out, packages=args.package,
+                          dependencies=not args.no_deps)
+    except (MsgNotFound, InvalidMsgSpec, DdesError) as exc:
+        print(f"gencpp: error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
