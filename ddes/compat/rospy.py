@@ -348,7 +348,14 @@ def sleep(duration: DurationLike) -> None:
         wait(_sleep(task.world.kernel_clock, duration), "rospy.sleep()")
         return
     node = _blocking_node("rospy.sleep()")
-    wait(node.sleep(duration), "rospy.sleep()")
+    if node.clock.is_sim:  # rospy/timer.py: raises ROSInterruptException at shutdown
+        wait(node.sleep(duration), "rospy.sleep()")
+        return
+    # on the wall clock rospy.sleep is time.sleep: a shutdown does not cut it short, and a
+    # sleep after it sleeps (the loop then ends at its is_shutdown() check)
+    from ddes.time.sleep import sleep as _sleep
+
+    wait(_sleep(node.world.kernel_clock, duration), "rospy.sleep()", interruptible=False)
 
 
 class Rate:
@@ -371,7 +378,9 @@ class Rate:
         curr = clock.now_ns()
         remaining = rate._remaining(curr)
         rate._advance(curr)
-        wait_ns(self._env, remaining if remaining > 0 else 0, "rate.sleep()")
+        # on the wall clock rospy's Rate.sleep is time.sleep: a shutdown does not end it
+        wait_ns(self._env, remaining if remaining > 0 else 0, "rate.sleep()",
+                interruptible=False)
 
     def remaining(self) -> Duration:
         """Time left in the current cycle."""

@@ -201,19 +201,20 @@ def wait(event: simpy.Event, what: str = "a blocking call", *,
     return _outcome(event)
 
 
-def wait_ns(env: simpy.Environment, delay: int, what: str = "a blocking call") -> None:
+def wait_ns(env: simpy.Environment, delay: int, what: str = "a blocking call", *,
+            interruptible: bool = True) -> None:
     """Block the running task for ``delay`` ns (>= 0) of kernel time: ``wait(env.timeout(delay))``.
 
     The same event at the same place in the kernel's queue (:func:`ddes.kernel.events.post`
     is exactly a timeout with one callback), made without SimPy's Timeout constructor: the
-    path of every ``rate.sleep()`` in a rospy loop.  Interruptible, as :func:`wait`.
+    path of every ``rate.sleep()`` in a rospy loop.  ``interruptible`` as :func:`wait`.
     """
     task = getcurrent()
     if not isinstance(task, GreenTask):
         raise _not_here(env, what)
     task.waiting = post(env, delay, None, task._wake)
     task.blocked = True
-    task._interruptible = True
+    task._interruptible = interruptible
     task.parent.switch(_BLOCKED)  # back here from resume(), which cleared task.waiting
     if task._interrupt is not None:
         exc, task._interrupt = task._interrupt, None

@@ -465,6 +465,10 @@ class Publisher(Generic[_C_co]):
         once (rospy serializes only for a connected subscriber).
         """
         if self._closed:
+            if self.node.is_shutdown():
+                # rospy's _PublisherImpl.publish: a topic closed by the shutdown is a race with
+                # the user's is_shutdown() test, and the message is dropped quietly
+                return
             raise ROSException("publish() to an unregistered() handle")
         if len(args) == 1 and not kwds and type(args[0]) is self.data_class:
             msg: Any = args[0]  # a data_class instance: a Message, with a header if _has_header
