@@ -142,13 +142,16 @@ class _Options:
     results_filename: str | None = None
     results_dir: str | None = None
     instant_budget: int | None = None
+    #: ``--latency S``: every topic connection's latency in the test worlds (seconds).
+    latency: float = 0.0
     help: bool = False
     words: list[str] = field(default_factory=list)
 
 
 _USAGE = ("usage: rostest [options] [package] <filename> [arg:=value ...]\n"
           "options: -t/--text, --seed N, --results-filename NAME, --results-dir DIR "
-          "(--results-base-dir DIR), --instant-budget N, --package PKG --pkgdir DIR")
+          "(--results-base-dir DIR), --instant-budget N, --latency S, --package PKG "
+          "--pkgdir DIR")
 
 
 def parse_rostest_args(argv: Sequence[str]) -> _Options:
@@ -160,13 +163,22 @@ def parse_rostest_args(argv: Sequence[str]) -> _Options:
         if word in ("-t", "--text"):
             opts.text = True
         elif key in ("--seed", "--results-filename", "--results-dir", "--results-base-dir",
-                     "--package", "--pkgdir", "--instant-budget"):
+                     "--package", "--pkgdir", "--instant-budget", "--latency"):
             if not eq:
                 given = next(it, None)
                 if given is None:
                     raise ROSConsoleError(f"{key} needs a value\n{_USAGE}")
                 value = given
-            if key in ("--seed", "--instant-budget"):
+            if key == "--latency":
+                try:
+                    latency = float(value)
+                except ValueError:
+                    raise ROSConsoleError(f"--latency needs seconds, got {value!r}") from None
+                if not 0 <= latency <= 60:
+                    raise ROSConsoleError(f"--latency must be between 0 and 60 seconds, got "
+                                          f"{value}")
+                opts.latency = latency
+            elif key in ("--seed", "--instant-budget"):
                 try:
                     number = int(value)
                 except ValueError:
@@ -306,6 +318,8 @@ class _Rostest:
         world.raise_callback_errors = False
         if self.opts.instant_budget is not None:
             world.instant_budget = self.opts.instant_budget
+        if self.opts.latency:
+            world.set_link(latency=self.opts.latency)
         self.world = world
         self.seed = seed
         router = LogRouter(world, self.o.screen).install()

@@ -47,6 +47,13 @@ PASSING = {
 }
 
 
+#: Files that pass with a link latency (``ddes rostest --latency S``): their nodes answer each
+#: other as fast as the transport allows (docs/rostest.md, the deadlock row).
+PASSING_WITH_LATENCY = {
+    ("actionlib", "test_simple_action_server_deadlock_python.launch"): (1, "0.05"),
+}
+
+
 def _run(tmp_path: Path, *words: str) -> tuple[Any, list[str]]:
     out: list[str] = []
     report = run_rostest(["--results-dir", str(tmp_path), *words], rospack=RosPack(PATH),
@@ -67,6 +74,21 @@ def test_upstream_file_passes(package: str, name: str, tmp_path: Path) -> None:
     assert (report.tests, report.errors, report.failures) == (PASSING[package, name], 0, 0)
     again, _ = _run(tmp_path / "again", package, name)
     assert again.digest == report.digest
+
+
+@pytest.mark.parametrize("package, name", list(PASSING_WITH_LATENCY))
+def test_upstream_file_passes_with_a_latency(package: str, name: str, tmp_path: Path) -> None:
+    methods, latency = PASSING_WITH_LATENCY[package, name]
+    report, out = _run(tmp_path, "--latency", latency, package, name)
+    assert report.code == 0, "\n".join(out[-40:])
+    assert (report.tests, report.errors, report.failures) == (methods, 0, 0)
+
+
+def test_at_zero_latency_the_deadlock_file_is_a_zero_time_livelock(tmp_path: Path) -> None:
+    report, out = _run(tmp_path, "--instant-budget", "2000", "actionlib",
+                       "test_simple_action_server_deadlock_python.launch")
+    assert report.code != 0
+    assert any("zero-time livelock" in line for line in out)
 
 
 #: rospy_tutorials' Python messages are not in Debian's ROS: genpy generates them for the real
