@@ -121,6 +121,8 @@ class ExternalNode:
         self._rfd = self._wfd = -1
         self._out_fds: dict[int, bool] = {}
         self._partial: dict[int, bytes] = {}
+        #: Bytes read from the process and not yet taken as frames.
+        self._buf = bytearray()
         self._stack: list[_Conversation] = []
         self._next_cb = 0
         self._pubs: dict[int, Any] = {}
@@ -170,6 +172,7 @@ class ExternalNode:
         os.close(to_child_r)
         os.close(from_child_w)
         self._rfd, self._wfd = from_child_r, to_child_w
+        os.set_blocking(self._rfd, False)
         self.pid = self._proc.pid
         assert self._proc.stdout is not None and self._proc.stderr is not None
         for stream, is_err in ((self._proc.stdout, False), (self._proc.stderr, True)):
@@ -220,30 +223,46 @@ class ExternalNode:
                 raise _ProcessEnded() from None
             view = view[n:]
 
-    def _read_exact(self, n: int, deadline: float) -> bytes:
-        chunks: list[bytes] = []
-        need = n
-        while need:
-            fds = [self._rfd, *self._out_fds]
+    def _fill(self, deadline: float) -> None:
+        """Read what the process has written (at least one byte), into the buffer."""
+        while True:
+            try:
+                chunk = os.read(self._rfd, 1 << 16)  # non-blocking: what is there already
+            except BlockingIOError:
+                chunk = None
+            if chunk is not None:
+                if not chunk:
+                    raise _ProcessEnded()
+                self._buf += chunk
+                return
             left = deadline - time.monotonic()
             if left <= 0:
                 raise _Watchdog()
-            ready, _, _ = select.select(fds, [], [], left)
+            ready, _, _ = select.select([self._rfd, *self._out_fds], [], [], left)
             for fd in ready:
                 if fd in self._out_fds:
                     self._read_output(fd)
-            if self._rfd in ready:
-                chunk = os.read(self._rfd, need)
-                if not chunk:
-                    raise _ProcessEnded()
-                chunks.append(chunk)
-                need -= len(chunk)
-        return b"".join(chunks)
 
     def _read_frame(self, budget: float | None = None) -> tuple[int, bytes]:
+        """The next frame: from the buffer, reading more only when it holds no whole frame
+        (one read takes every frame the process wrote since)."""
+        buf = self._buf
+        if len(buf) >= P.HEADER_SIZE:
+            kind, size = P.split_header(bytes(buf[:P.HEADER_SIZE]))
+            end = P.HEADER_SIZE + size
+            if len(buf) >= end:
+                payload = bytes(buf[P.HEADER_SIZE:end])
+                del buf[:end]
+                return kind, payload
         deadline = time.monotonic() + (self.step_wall_s if budget is None else budget)
-        kind, size = P.split_header(self._read_exact(P.HEADER_SIZE, deadline))
-        payload = self._read_exact(size, deadline) if size else b""
+        while len(buf) < P.HEADER_SIZE:
+            self._fill(deadline)
+        kind, size = P.split_header(bytes(buf[:P.HEADER_SIZE]))
+        end = P.HEADER_SIZE + size
+        while len(buf) < end:
+            self._fill(deadline)
+        payload = bytes(buf[P.HEADER_SIZE:end])
+        del buf[:end]
         return kind, payload
 
     def _read_output(self, fd: int) -> None:
