@@ -26,6 +26,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "ddes.cli.console",
     "ddes.cli.run",
     "ddes.cli.rostest",
+    "ddes.cli.catkin",
     "ddes.cli.grade",
     "ddes.cli.course",
     "ddes.console.viz",

@@ -75,12 +75,14 @@ def _kill(proc: subprocess.Popen[bytes]) -> None:
 class _Conversation:
     """One frame of the process's stack: the main, or a callback."""
 
-    __slots__ = ("id", "turn")
+    __slots__ = ("id", "turn", "waiter")
 
     def __init__(self, cid: int) -> None:
         self.id = cid
         #: Fired when this conversation is on top again (set while it waits for its turn).
         self.turn: simpy.Event | None = None
+        #: What its blocking request waits on (set while it waits).
+        self.waiter: simpy.Event | None = None
 
 
 class ExternalNode:
@@ -129,6 +131,8 @@ class ExternalNode:
         self._subs: dict[int, Any] = {}
         self._services: dict[int, Any] = {}
         self._timers: dict[int, Any] = {}
+        #: Connect callbacks' single-subscriber publishers, by (publisher id, caller id).
+        self._peers: dict[tuple[int, str], Any] = {}
         self._next_id = 0
         self._finalizer: weakref.finalize | None = None
         self._done = world.env.event()
@@ -424,13 +428,24 @@ class ExternalNode:
                 return ok, data
             if kind in _BLOCKING:
                 req, event = self._blocking(kind, payload)
+                # the wait, which a callback's exception (CB_DONE ok 2) may cut short
+                waiter = me.waiter = self.world.env.event()
+                event.callbacks.append(_relay(waiter))
                 try:
-                    value = yield event
+                    value = yield waiter
                 except Exception as exc:  # noqa: BLE001 - the request's failure is its answer
                     value = exc
+                if isinstance(event, simpy.Event) and not event.triggered:
+                    event.defused = True  # nobody waits on it any more
+                me.waiter = None
                 while self._stack[-1] is not me:  # the process is in a callback above me
                     me.turn = self.world.env.event()
                     yield me.turn
+                if value is _INTERRUPTED:
+                    if self.node is not None and not self.node.is_shutdown():
+                        self.node.callbacks.set_manual(True)  # no more callbacks for it
+                    self._reply_error(req, "interrupted by an exception in a callback")
+                    continue
                 self._answer(kind, req, value)
             else:
                 self._immediate(kind, payload)
@@ -450,13 +465,24 @@ class ExternalNode:
             msg = pub.data_class.__new__(pub.data_class)._deserialize_from(data)
             pub.publish(msg)
             return
+        if kind == P.PUBLISH_ONE:
+            pid, caller, data = r.u32("id"), r.string("subscriber"), r.blob("message")
+            r.end()
+            pub = self._pubs.get(pid)
+            if pub is None:
+                raise ProtocolError(f"protocol error: PUBLISH_ONE on unknown publisher {pid}")
+            peer = self._peers.get((pid, caller))
+            if peer is not None:  # a subscriber gone by now gets nothing
+                peer(pub.data_class.__new__(pub.data_class)._deserialize_from(data))
+            return
         if kind == P.LOG:
             level = r.u8("level")
             logger, text = r.string("logger"), r.string("text")
             file, function, line = r.string("file"), r.string("function"), r.u32("line")
             r.end()
+            # the process has filtered by its loggers' levels already (roscpp's rosconsole)
             node.log.log_at(_LOG_LEVELS[min(level, 4)], text, file, function, line,
-                            logger=logger)
+                            logger=logger, filtered=True)
             return
         if kind in (P.UNADVERTISE, P.UNSUBSCRIBE, P.UNADVERTISE_SERVICE):
             eid = r.u32("id")
@@ -597,9 +623,9 @@ class ExternalNode:
             node.callbacks.set_manual(op != 0)
             return b""
         if kind == P.LOGGER_LEVEL:
-            _logger, level = r.string("logger"), r.u8("level")
-            r.end()
-            node.log.set_level(_LOG_LEVELS[min(level, 4)])
+            r.string("logger")
+            r.u8("level")
+            r.end()  # the process keeps its loggers' levels itself (rosconsole)
             return b""
         if kind == P.SHUTDOWN:
             r.end()
@@ -773,6 +799,11 @@ class ExternalNode:
 
     def _check_failure(self, result: tuple[int, bytes], what: str) -> None:
         ok, data = result
+        if ok == 2:  # the callback threw: it leaves the blocking call below, as in roscpp
+            below = self._stack[-1] if self._stack else None
+            if below is not None and below.waiter is not None and not below.waiter.triggered:
+                below.waiter.succeed(_INTERRUPTED)
+            return
         if not ok and self.node is not None:
             self.node.logerr("Exception thrown while processing %s callback: %s", what,
                              data.decode("utf-8", "replace"))
@@ -882,12 +913,30 @@ class _PeerListener:
         self.pid = pid
 
     def peer_subscribe(self, topic_name: str, topic_publish: Any, peer_publish: Any) -> Any:
+        caller = str(getattr(peer_publish, "subscriber", ""))
+        self.host._peers[(self.pid, caller)] = peer_publish
         return self.host._plain(self.host._callback(
-            P.CB_PEER_SUBSCRIBED, self.pid, P.Writer().string("").payload()), "connect")
+            P.CB_PEER_SUBSCRIBED, self.pid, P.Writer().string(caller).payload()), "connect")
 
     def peer_unsubscribe(self, topic_name: str, num_peers: int) -> Any:
         return self.host._plain(self.host._callback(
             P.CB_PEER_UNSUBSCRIBED, self.pid, P.Writer().string("").payload()), "disconnect")
+
+
+def _relay(waiter: simpy.Event) -> Callable[[simpy.Event], None]:
+    """A callback handing an event's outcome on to ``waiter`` (unless that was cut short)."""
+    def relay(ev: simpy.Event) -> None:
+        if not waiter.triggered:
+            if ev._ok:
+                waiter.succeed(ev._value)
+            else:
+                ev.defused = True
+                waiter.fail(ev._value)
+    return relay
+
+
+#: The value a blocking request's wait gets when a callback's exception cuts it short.
+_INTERRUPTED = object()
 
 
 class _ProcessEnded(Exception):
@@ -928,7 +977,7 @@ def _fill(response: Any, result: tuple[int, bytes] | None) -> bool:
     if result is None:
         return False
     ok, data = result
-    if not ok:
+    if ok != 1:  # 0: the handler failed; 2: it threw (the process logged it)
         return False
     response._deserialize_from(data)
     return True

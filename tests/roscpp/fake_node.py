@@ -141,6 +141,23 @@ def client() -> None:
     log(f"Sum: {struct.unpack('<q', r.blob())[0]}" if ok else "Failed to call service")
 
 
+def thrower() -> None:
+    """A subscriber callback that throws: the exception leaves ros::spin(), the node exits 3."""
+    hello("thrower")
+
+    def boom(what: int, r: P.Reader) -> tuple[int, bytes]:
+        return 2, b"std::runtime_error: boom"
+
+    r = request(P.SUBSCRIBE, new_req().string("/").string("chatter").string("std_msgs/String")
+                .string("992ce8a1687cec8c8bd883ec73ca41d1").u32(10))
+    callbacks[r.u32()] = boom
+    try:
+        request(P.SPIN, new_req())
+    except RuntimeError as exc:
+        print("spin raised:", exc, flush=True)
+        sys.exit(3)
+
+
 def spinner() -> None:
     """A node that never hands back (the watchdog's case)."""
     hello("spinner")
@@ -153,7 +170,7 @@ def crash() -> None:
     os.kill(os.getpid(), 11)
 
 
-SCENARIOS = {"talker": talker, "listener": listener, "server": server, "client": client,
+SCENARIOS = {"thrower": thrower, "talker": talker, "listener": listener, "server": server, "client": client,
              "spinner": spinner, "crash": crash}
 
 if __name__ == "__main__":

@@ -34,7 +34,7 @@ def build(src_packages: Sequence[Path], workspace: Path, targets: Sequence[str])
         dest = src / pkg.name
         if not dest.exists():
             shutil.copytree(pkg, dest)
-    env = dict(os.environ, PATH=ENV_PATH)
+    env = dict(os.environ, PATH=ENV_PATH, PWD=str(workspace.absolute()))
     for k in list(env):
         if k.startswith("PYTHON") or k in ("VIRTUAL_ENV", "ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH"):
             env.pop(k)

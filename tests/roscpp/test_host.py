@@ -105,3 +105,17 @@ def test_a_crash_is_a_node_death_with_roslaunchs_text() -> None:
     assert host.death_text().startswith(f"process has died [pid {host.pid}, exit code -11, cmd ")
     assert not other.is_shutdown()
     assert host.node is not None and host.node.is_shutdown()
+
+
+def test_an_exception_in_a_callback_leaves_spin_as_in_roscpp() -> None:
+    world = ddes.World()
+    world.log_output = False
+    out: list[str] = []
+    host = _node(world, "thrower", out)
+    pub = world.create_node("py").advertise(
+        "chatter", world.messages.get_message_class("std_msgs/String"), queue_size=10)
+    world.run(until=0.1)
+    pub.publish(data="x")
+    world.run(until=0.2)
+    assert "spin raised: interrupted by an exception in a callback" in out
+    assert host.exit_code == 3

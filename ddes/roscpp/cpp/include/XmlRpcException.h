@@ -1,0 +1,2 @@
+// ddes roscpp: <XmlRpcException.h>, as xmlrpcpp installs it beside <xmlrpcpp/XmlRpcException.h>.
+#include "xmlrpcpp/XmlRpcException.h"

@@ -1,0 +1,2 @@
+// ddes roscpp: <XmlRpcValue.h>, as xmlrpcpp installs it beside <xmlrpcpp/XmlRpcValue.h>.
+#include "xmlrpcpp/XmlRpcValue.h"
