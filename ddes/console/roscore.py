@@ -10,7 +10,8 @@ and SUMMARY, then, on stderr::
     Please kill other roscore/master processes before relaunching.
     The ROS_MASTER_URI is http://localhost:11311/
 
-and exits 1.  In a console started without the core (``ddes console
+followed by ddes's own line (:data:`ALREADY_RUNNING_NOTE`: the console is the roscore, type the
+next command here), and exits 1.  In a console started without the core (``ddes console
 --no-core``, ``Console(core=False)``) it starts the core and prints
 roscore's start-up (``auto-starting new master``, ``process[master]: started
 with pid [...]``, ``ROS_MASTER_URI=http://localhost:11311/``, ``setting
@@ -41,10 +42,16 @@ from ddes.launch.runtime import CORE_PARAMS, core_running, node_pid, start_core
 if TYPE_CHECKING:
     from ddes.console.tooling import ToolContext
 
-__all__ = ["MASTER_URI", "TOOLS", "roscore"]
+__all__ = ["ALREADY_RUNNING_NOTE", "MASTER_URI", "TOOLS", "roscore"]
 
 #: The master's URI as roscore prints it (``http://HOST:11311/``).
 MASTER_URI = "http://localhost:11311/"
+
+#: ddes's line after roscore's refusal: why a newcomer needs no roscore here.
+ALREADY_RUNNING_NOTE = ("[ddes] this console is the roscore: the master, the parameter server "
+                        "and /rosout already run here, until you exit the console; type the next "
+                        "command (rosrun, rostopic, ...) at this prompt, no other terminal is "
+                        "needed")
 
 
 def _summary() -> str:
@@ -92,6 +99,7 @@ def roscore(ctx: ToolContext, argv: list[str]) -> int:
         ctx.eprint("RLException: roscore cannot run as another roscore/master is already "
                    "running. \nPlease kill other roscore/master processes before relaunching.\n"
                    f"The ROS_MASTER_URI is {MASTER_URI}")
+        ctx.eprint(ALREADY_RUNNING_NOTE)
         return 1
     ctx.print("auto-starting new master")
     ctx.print(f"process[master]: started with pid [{node_pid('master')}]")

@@ -112,7 +112,10 @@ def rosrun(ctx: ToolContext, argv: list[str]) -> int:
     router.levels[node.name] = level
     task = Task(world, label)
     task.own(node)
-    node.on_shutdown(lambda _reason: task.finish(_exit_code(world, node.name)))
+    if node.is_shutdown():  # it ended while starting (a usage message, then exit 1)
+        task.finish(_exit_code(world, node.name))
+    else:
+        node.on_shutdown(lambda _reason: task.finish(_exit_code(world, node.name)))
     if background:  # "[1] rosrun ..." first, as a shell prints "[1] PID" before the output
         code = run_task(ctx, task, background=True, duration=None)
         settle(world)

@@ -246,6 +246,7 @@ def _run(ctx: ToolContext, event: simpy.Event, waiting_for: str) -> Any:
     deadline = env.now + duration_to_ns(WAIT_LIMIT)
     if not event.processed:
         event.callbacks.append(_defuse)  # a failure is re-raised below, not by the kernel
+        ctx.note_waiting()
     while not event.processed:
         t = env.peek()
         if t == float("inf"):

@@ -5,8 +5,8 @@ with the ``/rosout`` node and roscore's parameters
 (:func:`ddes.launch.runtime.start_core`).  Every world-bound tool listed in
 :data:`ddes.console.tooling.TOOL_MODULES` is a command (``rosrun``,
 ``rostopic``, ``rosnode``, ``rosparam``, ``roslaunch``, ``sleep``, ``time``,
-``jobs``, ``kill`` and whatever later modules add), plus ``help`` and
-``exit``.
+``jobs``, ``kill`` and whatever later modules add), plus ``help``, ``rtf``,
+``clear`` (the ANSI codes of ``clear`` on an xterm) and ``exit``.
 
 Time stands still while you type.  A command that needs time lets the world
 run: ``sleep 2``, ``rostopic echo -n 3 /chatter`` (until three messages
@@ -32,7 +32,8 @@ Hostile input: a command line longer than :data:`MAX_LINE` characters (64
 KiB) is refused with ``ERROR: ...`` naming the limit, without echoing it
 whole, and the console goes on.  Ctrl+C during a command stops that
 foreground command only (its nodes shut down, a foreground recording is
-written) and says so; background jobs go on.  After every command the open
+written) and says so on a line of its own (:func:`interrupted_text`, written
+over the ``^C`` a terminal echoes); background jobs go on.  After every command the open
 recordings write their pending chunk to ``NAME.bag.active``, so a killed
 console loses nothing it recorded; :meth:`Console.close` closes them (the
 ``ddes console`` command calls it when a script ends, on Ctrl+D, SIGINT and
@@ -57,13 +58,24 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
-__all__ = ["BUILTINS", "MAX_LINE", "Console", "interact", "run_script"]
+__all__ = ["BUILTINS", "CLEAR_KEEP_SCROLLBACK", "CLEAR_SCREEN", "CONSOLE_RECORD_DATE", "MAX_LINE",
+           "Console", "clear_sequence", "interact", "run_script"]
 
 #: The longest command line the console runs (characters); longer ones are refused.
 MAX_LINE = 64 * 1024
 
+#: The date of the console's kernel time 0 in the names of its recordings (``rosbag record``
+#: without ``-O`` writes ``2024-01-01-00-00-05.bag`` five simulated seconds in, where rosbag reads
+#: the machine's clock); ``DDES_BAG_DATE`` and ``set_record_date`` override it (docs/bags.md).
+CONSOLE_RECORD_DATE = "2024-01-01-00-00-00"
+
 #: Commands of the console itself (the tools come from TOOL_MODULES).
-BUILTINS = ("exit", "help", "quit", "rtf")
+BUILTINS = ("clear", "exit", "help", "quit", "rtf")
+
+#: What ``clear`` writes: ncurses' ``clear`` on an xterm (cursor home, erase the screen and the
+#: scrollback); ``clear -x`` leaves the scrollback (:data:`CLEAR_KEEP_SCROLLBACK`).
+CLEAR_SCREEN = "\x1b[H\x1b[2J\x1b[3J"
+CLEAR_KEEP_SCROLLBACK = "\x1b[H\x1b[2J"
 
 #: Sub-commands offered by tab completion, per tool (only for completion).
 _SUBCOMMANDS: dict[str, tuple[str, ...]] = {
@@ -82,7 +94,7 @@ _SUBCOMMANDS: dict[str, tuple[str, ...]] = {
 _HELP = """ddes console: ROS 1 tools on one simulated world (time stands still while you type).
 
 Commands: {commands}
-Console: help [COMMAND], rtf [FACTOR|off], exit (or Ctrl+D)
+Console: help [COMMAND], rtf [FACTOR|off], clear, exit (or Ctrl+D)
 
 Commands that run until Ctrl+C in ROS (rosrun talker, roslaunch, rostopic echo)
 run in the foreground until they end: interactively paced at the real-time factor
@@ -127,6 +139,8 @@ class Console:
                  err: Callable[[str], None] | None = None,
                  rtf: float | None = None, until: float | None = None) -> None:
         from ddes.launch.runtime import LogRouter, start_core
+        from ddes.rosbag.recorder import fallback_record_date, set_fallback_record_date
+        from ddes.services.loggers import roscpp_logger_services
 
         self.world = world if world is not None else self.world_class(seed=seed)
         self.world.raise_callback_errors = False
@@ -134,19 +148,28 @@ class Console:
         self.rtf = rtf
         self.until = until
         LogRouter(self.world, lambda line: self.ctx.print(line)).install()
+        if fallback_record_date(self.world) is None:
+            set_fallback_record_date(self.world, CONSOLE_RECORD_DATE)
+        roscpp_logger_services(self.world)  # ~get_loggers, ~set_logger_level, as roscpp's
         if core:
             start_core(self.world)
         self._errors_seen = len(self.world.callback_errors)
+        #: Ctrl+C was pressed during the last command (interactive only), whether or not it
+        #: stopped it: a command that never paced ends as it would have.
+        self.ctrl_c_seen = False
 
     # -- running commands ----------------------------------------------------------------------
     def command(self, line: str, out: Callable[[str], None],
                 err: Callable[[str], None]) -> int:
         """Run one command line with its output streamed to ``out``/``err``; returns the exit code."""
+        from ddes.console.toolkit import EXIT_INTERRUPTED
         from ddes.rosbag.recorder import flush_recordings
 
         ctx = self.ctx
         saved = ctx.out, ctx.err
         ctx.out, ctx.err = out, err
+        ctx.time_noted = False  # the simulated-time notice prints once per command
+        self.ctrl_c_seen = False
         try:
             if len(line) > MAX_LINE:
                 ctx.eprint(f"ERROR: {too_long(line)}")
@@ -164,13 +187,17 @@ class Console:
                     ctx.interrupted = flag
                     try:
                         self.world.settle()
-                        return self._command(line)
+                        code = self._command(line)
                     finally:
                         ctx.interrupted = None
+                self.ctrl_c_seen = flag.raised
+                if flag.raised and code == EXIT_INTERRUPTED:  # the paced run saw the Ctrl+C
+                    ctx.eprint(interrupted_text(line))
+                return code
             except KeyboardInterrupt:  # Ctrl+C: the foreground command only
-                ctx.eprint(f"^C: stopped the foreground command '{_shown(line)}' (its nodes "
-                           "were shut down; background jobs keep running: 'jobs' lists them)")
-                return 130
+                self.ctrl_c_seen = True
+                ctx.eprint(interrupted_text(line))
+                return EXIT_INTERRUPTED
         finally:
             try:
                 self._report_callback_errors()
@@ -207,6 +234,9 @@ class Console:
         try:
             if argv[0] == "rtf":
                 return self._rtf(argv[1:])
+            if argv[0] == "clear":  # a line of its own here; the terminal writes it bare
+                ctx.print(clear_sequence(argv[1:]))
+                return 0
             return int(find_tool(argv[0])(ctx, argv[1:]))
         except DdesError as exc:
             ctx.eprint(f"ERROR: {_one_line(str(exc))}")
@@ -387,6 +417,23 @@ def _factor(text: str) -> float:
                               "(1 = real time, 0.5 = half speed) or 'off'") from None
 
 
+def clear_sequence(args: list[str]) -> str:
+    """What ``clear [-x]`` writes (ANSI, as ``clear`` on an xterm); a ROSConsoleError for other
+    arguments."""
+    if not args:
+        return CLEAR_SCREEN
+    if args == ["-x"]:
+        return CLEAR_KEEP_SCROLLBACK
+    raise ROSConsoleError(f"clear: unknown option {args[0]!r} (usage: clear [-x]; -x keeps the "
+                          "scrollback)")
+
+
+def interrupted_text(line: str) -> str:
+    """What the console prints when Ctrl+C stopped the foreground command ``line``."""
+    return (f"^C: stopped the foreground command '{_shown(line)}' (its nodes were shut down; "
+            "background jobs keep running: 'jobs' lists them)")
+
+
 def too_long(line: str) -> str:
     """The message refusing a command line over :data:`MAX_LINE` characters."""
     return (f"the command line has {len(line)} characters, over the console's limit of "
@@ -492,6 +539,9 @@ class _Shell(cmd.Cmd):
         self.console = console
         self.history = history
         self.last_code = 0
+        #: The terminal echoes Ctrl+C as ``^C`` (ECHOCTL): the console's ``^C: stopped ...``
+        #: then starts with a carriage return, so the line shows one ``^C``, not two.
+        self.echoes_ctl = _echoes_control_characters(sys.stdin)
         self._update_prompt()
 
     def _update_prompt(self) -> None:
@@ -547,16 +597,30 @@ class _Shell(cmd.Cmd):
     def default(self, line: str) -> bool:  # type: ignore[override]  # True ends cmdloop
         if line.strip() in ("exit", "quit"):
             return True
+        words = line.split()
+        if words[:1] == ["clear"] and len(line) <= MAX_LINE:
+            try:  # as a shell's clear: the screen is erased and the prompt comes back at its top
+                sys.stdout.write(clear_sequence(words[1:]))
+                self.last_code = 0
+            except ROSConsoleError as exc:
+                sys.stderr.write(f"ERROR: {exc}\n")
+                self.last_code = 1
+            sys.stdout.flush()
+            return False
 
         def out(text: str) -> None:
             sys.stdout.write(text + "\n")
             sys.stdout.flush()
 
         def err(text: str) -> None:
+            if self.echoes_ctl and text.startswith("^C: "):
+                text = "\r" + text  # over the ^C the terminal echoed, at the line's start
             sys.stderr.write(text + "\n")
             sys.stderr.flush()
 
         self.last_code = self.console.command(line, out, err)
+        if self.console.ctrl_c_seen and self.last_code != 130 and self.echoes_ctl:
+            err("")  # a Ctrl+C the command never looked at: the prompt after its ^C, below it
         return False
 
     def postcmd(self, stop: bool, line: str) -> bool:
@@ -568,6 +632,20 @@ class _Shell(cmd.Cmd):
 
     def completedefault(self, text: str, line: str, begidx: int, endidx: int) -> list[str]:
         return _spaced(self.console.complete(line[:endidx], text))
+
+
+def _echoes_control_characters(stream: TextIO) -> bool:
+    """Whether ``stream`` is a terminal that echoes Ctrl+C as ``^C`` (termios ECHOCTL)."""
+    try:
+        import termios
+    except ImportError:  # pragma: no cover - not POSIX
+        return False
+    try:
+        if not stream.isatty():
+            return False
+        return bool(termios.tcgetattr(stream.fileno())[3] & termios.ECHOCTL)
+    except (termios.error, AttributeError, OSError, ValueError):  # not a terminal after all
+        return False
 
 
 def _spaced(matches: list[str]) -> list[str]:

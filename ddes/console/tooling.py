@@ -44,10 +44,11 @@ if TYPE_CHECKING:
     from ddes.rospack import RosPack
 
 __all__ = ["TOOL_MODULES", "CommandResult", "ToolContext", "Tool", "find_tool", "run_command",
-           "run_command_result", "tool_names"]
+           "run_command_result", "sim_time_notice", "tool_names"]
 
 #: Modules defining world-bound tools (``TOOLS = {"name": fn}``); one line per module.
 TOOL_MODULES: tuple[str, ...] = (
+    "ddes.console.catkin",
     "ddes.console.rosbag",
     "ddes.console.roscd",
     "ddes.console.roscore",
@@ -105,6 +106,9 @@ class ToolContext:
     #: While an interactive command runs: true once Ctrl+C was pressed (set for the whole
     #: command, so a Ctrl+C pressed before its paced run starts is not lost); None otherwise.
     interrupted: Callable[[], bool] | None = None
+    #: The command printed :func:`sim_time_notice` already (it prints once per command; the
+    #: console and :func:`run_command_result` clear it before each command).
+    time_noted: bool = False
 
     def __post_init__(self) -> None:
         if self.rospack is None:
@@ -125,6 +129,16 @@ class ToolContext:
         """Write a line to the tool's standard error."""
         self.err(text)
 
+    def note_waiting(self) -> None:
+        """The command is about to let the world run: print :func:`sim_time_notice` if
+        simulated time stands still (once per command)."""
+        if self.time_noted:
+            return
+        notice = sim_time_notice(self.world)
+        if notice is not None:
+            self.time_noted = True
+            self.eprint(notice)
+
     def run_until(self, event: simpy.Event, timeout: float | None = None) -> Any:
         """Run the world until ``event`` is processed; return its value.
 
@@ -133,6 +147,8 @@ class ToolContext:
         A failed event re-raises its exception.
         """
         world = self.world
+        if not event.processed:
+            self.note_waiting()
         if timeout is not None:
             limit = world.env.timeout(max(0, duration_to_ns(timeout, "timeout")))
             world.run(world.env.any_of([event, limit]))
@@ -154,6 +170,8 @@ class ToolContext:
         """Let ``seconds`` of simulated time pass."""
         if seconds < 0:
             raise ROSConsoleError(f"cannot advance by a negative time ({seconds})")
+        if seconds > 0:
+            self.note_waiting()
         self.world.run_for(seconds)
 
     def background(self, name: str, process: JobProcess) -> Job:
@@ -161,6 +179,35 @@ class ToolContext:
         job = Job(len(self.jobs) + 1, name, process, self.world.now)
         self.jobs.append(job)
         return job
+
+
+def sim_time_notice(world: World) -> str | None:
+    """ddes's one-line notice when simulated time stands still, or None.
+
+    It stands still when ``/use_sim_time`` is true and nothing publishes ``/clock`` (a
+    ``rosbag play`` without ``--clock`` advertises ``/clock`` but never publishes on it): every
+    node on simulated time then reads the last ``/clock`` value (0 before the first) and its
+    sleeps, rates and timers wait for ever, silently, as in ROS.
+    """
+    master = world.master
+    if not master.params.get_param("/use_sim_time", False):  # as a node reads it
+        return None
+    entry = master.topics.get("/clock")
+    publishers = list(entry.publishers) if entry is not None else []
+    silent: list[object] = []
+    if publishers:
+        from ddes.rosbag.player import silent_clock_publishers
+
+        silent = [p for p in silent_clock_publishers(world) if any(p is q for q in publishers)]
+        if len(silent) < len(publishers):
+            return None
+    stamps = [n.clock.now_ns() for n in world.nodes.values() if n.use_sim_time]
+    at = max(stamps, default=0)
+    shown = "0" if at == 0 else f"{at // 1_000_000_000}.{at % 1_000_000_000:09d}, the last /clock"
+    hint = ("rosbag play publishes it only with --clock" if silent else
+            "start rosbag play --clock, or a node publishing /clock")
+    return (f"[ddes] /use_sim_time is true and nothing publishes /clock: simulated time stands "
+            f"still at {shown} ({hint})")
 
 
 @dataclass
@@ -201,6 +248,7 @@ def run_command_result(ctx: ToolContext, line: str) -> CommandResult:
     err: list[str] = []
     saved = ctx.out, ctx.err
     ctx.out, ctx.err = out.append, err.append
+    ctx.time_noted = False
     try:
         argv = shlex.split(line, comments=True)
         if not argv:

@@ -328,6 +328,8 @@ def _run_paced(ctx: ToolContext, until: simpy.Event) -> str:
     from ddes.kernel.realtime import InterruptFlag, run_paced
 
     assert ctx.rtf is not None
+    if not until.processed:
+        ctx.note_waiting()
     if ctx.interrupted is not None:  # the console's flag, up since the command started
         return run_paced(ctx.world, until, rtf=ctx.rtf, stopped=ctx.interrupted)
     with InterruptFlag() as interrupted:

@@ -168,6 +168,10 @@ class NodeLogger:
         self.level = level_from(level)
         self._last: dict[tuple[str, int], int] = {}
         self._once: set[tuple[str, int]] = set()
+        #: The files the node's printed lines came from, in first-use order, each with the
+        #: logger its line named (an external node's ``ros.<package>``; "" for Python code):
+        #: what roscpp's ``~get_loggers`` lists as the loggers in use.
+        self.sites: dict[str, str] = {}
         self._pub: Publisher[type[Message]] | None = None
         self._log_cls: type[Message] | None = None
         if rosout:
@@ -213,19 +217,23 @@ class NodeLogger:
                    frame.f_code.co_filename)
 
     def log_at(self, level: int, text: str, file: str, function: str, line: int,
-               logger: str = "") -> None:
+               logger: str = "", filtered: bool = False) -> None:
         """Log one line whose call site is given, not found on the stack: a line an external
         node (a C++ process, docs/external-nodes.md) logged, already formatted.  ``logger``
-        (roscpp's ``ros.<package>``) is accepted for the record; the level test is this
-        node's."""
-        if level < self.level:
+        (roscpp's ``ros.<package>``) is accepted for the record; ``filtered``: the caller
+        applied its loggers' levels already (else this node's level decides)."""
+        if not filtered and level < self.level:
             return
+        if logger and file not in self.sites:
+            self.sites[file] = logger
         self._emit(level, text, file.rsplit("/", 1)[-1], function, line, file)
 
     def _emit(self, level: int, text: str, file: str, function: str, line_no: int,
               path: str) -> None:
         node = self.node
         world = node.world
+        if path not in self.sites:
+            self.sites[path] = ""
         if world.display_paths:
             text = show_paths(text, world.display_paths)
         if "0x" in text:  # an address (<X object at 0x7f…>) differs in every process

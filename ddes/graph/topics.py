@@ -599,6 +599,25 @@ def _hand_over(own: list[Any], old: Any, new: Any, topics: dict[str, Any]) -> No
                 registry[registry.index(old)] = new
 
 
+class PeerPublish:
+    """A SubscribeListener's ``peer_publish``: publish to the one subscriber that connected
+    (rospy's ``peer_publish``; roscpp's ``SingleSubscriberPublisher``), whose caller id is
+    :attr:`subscriber`."""
+
+    __slots__ = ("pub", "conn")
+
+    def __init__(self, pub: Publisher[Any], conn: Connection) -> None:
+        self.pub = pub
+        self.conn = conn
+
+    @property
+    def subscriber(self) -> str:
+        return str(self.conn.sub.node.name)
+
+    def __call__(self, message: Any) -> None:
+        self.pub._publish_to(self.conn, message)
+
+
 def _decode(sub: Subscriber[MessageClass], conn: Connection, data: bytes) -> MessageLike:
     """The message ``sub`` hears from ``data`` (its own copy, as TCPROS deserializes)."""
     if sub._any:
@@ -896,8 +915,7 @@ def connect_later(world: World, pub: Publisher[MessageClass], sub: Subscriber[Me
                      publisher=p.node.name, connection=conn.id)
         for listener in list(pub_impl.listeners):  # rospy's add_connection: before the latch
             p.node.callbacks.invoke(listener.peer_subscribe,
-                                    (p.resolved_name, p.publish,
-                                     lambda message, _c=conn: p._publish_to(_c, message)))
+                                    (p.resolved_name, p.publish, PeerPublish(p, conn)))
         if pub_impl.latch and pub_impl.latched is not None:
             latched = pub_impl.latched
             if p._roscpp:  # roscpp sends the latched bytes as they were

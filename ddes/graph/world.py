@@ -138,6 +138,11 @@ class World(Kernel):
         #: ``get_param`` and ``has_param`` of a node, or None (nothing told: the default).  The
         #: grader's sandbox uses it to learn which names a student's node read.
         self.param_observer: Callable[[str, str, bool], object] | None = None
+        #: Told of every node as it registers with the master: ``fn(node)``, the node's names,
+        #: clock and callback queue made, its logger and private parameters not yet (empty by
+        #: default).  The console gives roscpp-style nodes roscpp's ``~get_loggers`` and
+        #: ``~set_logger_level`` services this way (:mod:`ddes.services.loggers`).
+        self.node_observers: list[Callable[[Node], object]] = []
         self._links: list[tuple[tuple[str | None, str | None, str | None], LinkModel]] = []
         #: The world's master: registry of nodes, topics, services, and the parameters.
         self.master = Master(self)
@@ -296,6 +301,8 @@ class World(Kernel):
         if old is not None:
             old.shutdown_request("/master", f"[{node.name}] Reason: new node registered with same name")
         self._nodes[node.name] = node
+        for observe in self.node_observers:
+            observe(node)
 
     def unregister_node(self, node: Node) -> None:
         """Remove a node that shut down (no-op if another node took its name)."""

@@ -95,6 +95,8 @@ def run_paced(kernel: Kernel, until: simpy.Event, *, rtf: float = 1.0,
                 if stopped():
                     return PacedResult.STOPPED
                 sleep(min(wait, POLL))
+            if stopped():  # Ctrl+C during the last slice: the instant is not processed
+                return PacedResult.STOPPED
         kernel.run_through(int(t_next), stop=until)
 
 

@@ -208,7 +208,7 @@ class Player:
         from ddes.msg import get_message_class
 
         self._Clock = get_message_class("rosgraph_msgs/Clock")
-        self._clock_pub = self.node.advertise("clock", self._Clock, queue_size=1)
+        self._clock_pub = _clock_publisher(self.node, self._Clock, clock)
         self._raw: dict[tuple[str, str, str], type[RawBytes]] = {}
         self._pubs: dict[str, Publisher[type[RawBytes]]] = {}
         self._pub_classes: dict[str, type[RawBytes]] = {}
@@ -613,3 +613,29 @@ class Player:
         state = "stopped" if self._stopped else ("paused" if self._paused else "playing")
         return f"<Player {self.node.name} {state}: {self.published} published>"
 
+
+# Below the player on purpose: its log rows name their source lines (digests depend on them).
+_SILENT_CLOCK_KEY = "rosbag.silent_clock"
+
+
+def _new_silent(_world: object) -> list[Publisher[MessageClass]]:
+    return []
+
+
+def _clock_publisher(node: Node, clock_class: MessageClass, clock: bool
+                     ) -> Publisher[MessageClass]:
+    """play.cpp's ``/clock`` publisher, advertised whether or not it will publish (``--clock``);
+    one that will not is remembered (:func:`silent_clock_publishers`)."""
+    pub = node.advertise("clock", clock_class, queue_size=1)
+    if not clock:
+        silent_clock_publishers(node.world).append(pub)
+    return pub
+
+
+def silent_clock_publishers(world: World) -> list[Publisher[MessageClass]]:
+    """The ``/clock`` publishers of ``world``'s live players without ``clock``: advertised, as
+    play.cpp advertises ``/clock`` always, but never publishing (the console's simulated-time
+    notice, :func:`ddes.console.tooling.sim_time_notice`, does not count them)."""
+    silent: list[Publisher[MessageClass]] = world.extension(_SILENT_CLOCK_KEY, _new_silent)
+    silent[:] = [p for p in silent if not p.node.is_shutdown()]
+    return silent

@@ -46,14 +46,13 @@ name is written in ``cwd`` (the program's directory; None: the process's).
 
 The date.  rosbag reads the machine's clock; ddes has no wall clock, so the
 date is **the recording date of kernel time 0 plus the world's kernel time**
-when the recording starts, read in UTC (or ``tz``) so names never depend on
-``TZ``.  The date of kernel time 0 is ``Recorder(date=...)``, else the
-world's (:func:`set_record_date`), else 1970-01-01 00:00:00: a world at 0 s
-records ``1970-01-01-00-00-00.bag``.  The console's ``rosbag record`` and the
-``rosbag/record`` node type take it from ``DDES_BAG_DATE`` when the world has
-none (:func:`default_record_date`).  Dates are written as rosbag writes them
-(``2024-03-01-12-00-00``) or in ISO form (``2024-03-01T12:00:00``,
-``2024-03-01``).
+when the recording starts, in UTC (or ``tz``) so names never depend on ``TZ``.
+Kernel time 0 is ``Recorder(date=...)``, else the world's (:func:`set_record_date`),
+else its fallback (:func:`set_fallback_record_date`, the console's start), else
+1970-01-01 00:00:00 (a plain world at 0 s records ``1970-01-01-00-00-00.bag``).  The
+console's ``rosbag record`` and the ``rosbag/record`` node type take ``DDES_BAG_DATE``
+before the fallback (:func:`default_record_date`).  Dates are written as rosbag
+writes them (``2024-03-01-12-00-00``) or in ISO form (``2024-03-01T12:00:00``).
 
 Not modelled: ``--split``/``--size``/``--max-splits``, ``--buffsize`` (nothing
 is queued, so nothing is dropped), ``--min-space``, ``--repeat-latched``,
@@ -84,8 +83,9 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
 
 __all__ = ["Recorder", "bag_filename", "close_recordings", "default_record_date",
-           "flush_recordings", "open_recordings", "parse_duration", "parse_record_date",
-           "record_date", "roscpp_duration_ns", "set_record_date"]
+           "fallback_record_date", "flush_recordings", "open_recordings", "parse_duration",
+           "parse_record_date", "record_date", "roscpp_duration_ns", "set_fallback_record_date",
+           "set_record_date"]
 
 _REGISTRY = "rosbag.recorders"
 
@@ -215,7 +215,7 @@ def parse_record_date(value: str | datetime.datetime, tz: datetime.tzinfo | None
     return (delta.days * 86_400 + delta.seconds) * 1_000_000_000 + delta.microseconds * 1000
 
 
-def _new_date_table(_world: object) -> dict[str, int]:
+def _new_date_table(_world: object) -> dict[str, object]:
     return {}
 
 
@@ -226,7 +226,7 @@ def set_record_date(world: World, date: str | datetime.datetime | None,
     A recording that starts ``t`` kernel seconds later is named that date plus ``t``.
     None clears it (back to 1970-01-01, or ``DDES_BAG_DATE`` in the console).
     """
-    table: dict[str, int] = world.extension(_DATE_KEY, _new_date_table)
+    table: dict[str, object] = world.extension(_DATE_KEY, _new_date_table)
     if date is None:
         table.pop("ns", None)
     else:
@@ -295,7 +295,7 @@ class Recorder:
         self.world = world
         self.all, self.regex, self.limit, self.node_filter = all, regex, limit, node
         self._duration_ns = None if duration is None else parse_duration(duration)
-        date_ns = parse_record_date(date, tz) if date is not None else (record_date(world) or 0)
+        date_ns = parse_record_date(date, tz) if date is not None else _date_of_zero(world, tz)
         self.node = on_node if on_node is not None else world.create_node(
             name, anonymous=True, log_style="roscpp")
         self._own_node = on_node is None
@@ -505,3 +505,33 @@ class Recorder:
         return (f"<Recorder {self.node.name} {state} -> {self.path or 'memory'}: "
                 f"{self.bag.get_message_count()} messages>")
 
+
+# Below the recorder on purpose: its log rows name their source lines (digests depend on them).
+def set_fallback_record_date(world: World, date: str | None) -> None:
+    """Set the date of kernel time 0 that ``world``'s recordings use when nothing else gives
+    one: no ``Recorder(date=...)``, no :func:`set_record_date`, no ``DDES_BAG_DATE`` (for the
+    programs, :func:`default_record_date`).  The console sets its documented start here
+    (``ddes.console.shell.CONSOLE_RECORD_DATE``); None clears it (back to 1970-01-01)."""
+    if date is not None:
+        parse_record_date(date)  # a bad date fails here, not at the first recording
+    table: dict[str, object] = world.extension(_DATE_KEY, _new_date_table)
+    if date is None:
+        table.pop("fallback", None)
+    else:
+        table["fallback"] = date
+
+
+def fallback_record_date(world: World) -> str | None:
+    """The date set with :func:`set_fallback_record_date`, or None."""
+    table = world.extensions.get(_DATE_KEY)
+    value = table.get("fallback") if isinstance(table, dict) else None
+    return value if isinstance(value, str) else None
+
+
+def _date_of_zero(world: World, tz: datetime.tzinfo | None) -> int:
+    """The date of kernel time 0 of a Recorder given none: the world's, else its fallback."""
+    own = record_date(world)
+    if own is not None:
+        return own
+    fallback = fallback_record_date(world)
+    return 0 if fallback is None else parse_record_date(fallback, tz)

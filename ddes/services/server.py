@@ -44,7 +44,7 @@ from ddes.services.convert import (
     roscpp_result,
     server_error_text,
 )
-from ddes.services.network import network_of
+from ddes.services.network import ServiceStats, network_of
 from ddes.services.transport import PendingCall, ServiceConnection, serialize
 from ddes.time.rospy_calls import REQUIRED, is_node_like, node_first
 
@@ -56,7 +56,7 @@ if TYPE_CHECKING:
     from ddes.msg.message import Message, ServiceDefinition
     from ddes.services.client import ServiceProxy
 
-__all__ = ["ErrorHandler", "Handler", "Service"]
+__all__ = ["ErrorHandler", "Handler", "LibraryService", "Service"]
 
 #: A handler: ``handler(request)`` (rospy style) returns the response in any form
 #: :func:`~ddes.services.convert.convert_return_to_response` takes;
@@ -124,7 +124,7 @@ class Service:
         #: Open connections by id (closed with an error when the server goes away).
         self._conns: dict[int, ServiceConnection] = {}
         master = self.world.master
-        existing = master.lookup_service(self.resolved_name)
+        existing = _claim(master, self.resolved_name, node)  # a library service gives way
         if existing is not None:
             by = "" if existing.node is node else f" by node [{existing.node.name}]"
             raise ServiceException(
@@ -149,8 +149,8 @@ class Service:
         self._closed = True
         self.world.master.unregister_service(self.resolved_name, self)
         self.node.remove_entity(self)
-        self.world.record("service.unadvertise", self.node.name, service=self.resolved_name,
-                          reason=reason)
+        # (a LibraryService's coming and going is no event of the world: it records nothing)
+        self._record_unadvertise(reason)
         conns = list(self._conns.values())
         self._conns.clear()
         for conn in conns:
@@ -315,3 +315,85 @@ class Service:
     def __repr__(self) -> str:
         state = "closed" if self._closed else "serving"
         return f"<Service {self.resolved_name} [{self.type}] on {self.node.name} {state}>"
+
+    # Below the serving code on purpose: a log row names its source line, so lines added above
+    # ``_handler_failed``'s logerr would change the digest of every world whose handler fails.
+    def _record_unadvertise(self, reason: str) -> None:
+        self.world.record("service.unadvertise", self.node.name, service=self.resolved_name,
+                          reason=reason)
+
+
+def _claim(master: Any, name: str, node: Node) -> Any:
+    """The service registered under ``name``, after a :class:`LibraryService` of ``node`` there
+    gave the name up (the node's own code advertises it: its server wins)."""
+    existing = master.lookup_service(name)
+    if existing is not None and existing.node is node and isinstance(existing.server,
+                                                                      LibraryService):
+        existing.server.shutdown("replaced by the node's own service")
+        existing = master.lookup_service(name)
+    return existing
+
+
+class LibraryService(Service):
+    """A service the client library itself offers on a node (roscpp's ``~get_loggers``,
+    :mod:`ddes.services.loggers`): served as any :class:`Service` (``style`` as there), listed
+    by the master, ``rosservice`` and ``rosnode info``, but not traced when it comes and goes,
+    its URI and counters made when first asked for (so the URIs of the node's own services do
+    not move), and a service the node's own code advertises under its name replaces it.
+    """
+
+    def __init__(self, node: Node, name: str, service_class: type[ServiceDefinition],
+                 handler: Handler, *, style: str = "roscpp") -> None:
+        node.check_alive("advertise a service")
+        check_service_name(name, "Service")
+        check_service_class(service_class, f"service {name!r}")
+        if style not in _STYLES:
+            raise DdesValueError(f"service {name!r}: style must be 'rospy' or 'roscpp', got {style!r}")
+        self.node = node
+        self.world = node.world
+        self.resolved_name = node.resolve_name(name)
+        self.service_class = service_class
+        self.request_class = service_class._request_class
+        self.response_class = service_class._response_class
+        self.type = service_class._type
+        self.md5sum = service_class._md5sum
+        self.handler = handler
+        self.error_handler = None
+        self.style = style
+        self.buff_size = 65536
+        self._closed = False
+        self._conns = {}
+        self._lazy_uri: str | None = None
+        self._lazy_stats: ServiceStats | None = None
+        master = self.world.master
+        existing = master.lookup_service(self.resolved_name)
+        if existing is not None:
+            raise ServiceException(f"service [{self.resolved_name}] already registered by node "
+                                   f"[{existing.node.name}]")
+        master.register_service(self.resolved_name, self.type, self.md5sum, node, self)
+        node.add_entity(self)
+        network_of(self.world).notify_registered(self.resolved_name)
+
+    @property
+    def uri(self) -> str:
+        """The node's ROSRPC URI, handed out when first asked for (``rosservice uri``)."""
+        if self._lazy_uri is None:
+            self._lazy_uri = network_of(self.world).uri_for(self.node)
+        return self._lazy_uri
+
+    @uri.setter
+    def uri(self, value: str) -> None:
+        self._lazy_uri = value
+
+    @property
+    def _stats(self) -> ServiceStats:
+        if self._lazy_stats is None:
+            self._lazy_stats = network_of(self.world).stats_for(self.resolved_name)
+        return self._lazy_stats
+
+    @_stats.setter
+    def _stats(self, value: ServiceStats) -> None:
+        self._lazy_stats = value
+
+    def _record_unadvertise(self, reason: str) -> None:
+        pass  # a library service's coming and going is no event of the world

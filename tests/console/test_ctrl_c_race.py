@@ -17,5 +17,7 @@ def test_ctrl_c_during_the_commands_start_stops_the_paced_run() -> None:
     before = signal.getsignal(signal.SIGINT)  # (pytest-xdist's workers ignore SIGINT)
     code = console.command("rostopic echo /nobody", out.append, err.append)
     assert code == 130  # stopped as Ctrl+C stops it in ROS; without the flag it ran for ever
+    assert err[-1] == ("^C: stopped the foreground command 'rostopic echo /nobody' (its nodes "
+                       "were shut down; background jobs keep running: 'jobs' lists them)")
     assert console.ctx.interrupted is None
     assert signal.getsignal(signal.SIGINT) is before

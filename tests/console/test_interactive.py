@@ -171,3 +171,43 @@ def test_foreground_commands_run_paced_until_ctrl_c(tmp_path: Path) -> None:
         if term.proc.poll() is None:
             term.proc.kill()
             term.proc.wait()
+
+
+def _visible(line: str) -> str:
+    """A line as the terminal shows it: a carriage return starts it over (what follows overwrites
+    what came before; here what follows is always the longer text)."""
+    return line.rsplit("\r", 1)[-1]
+
+
+def test_ctrl_c_says_what_it_stopped_on_a_line_of_its_own(tmp_path: Path) -> None:
+    """Ctrl+C prints the console's message (docs/console.md, "Interactive Ctrl+C") over the ``^C``
+    the terminal echoed, and the prompt starts on a new line."""
+    term = Terminal(tmp_path, "--rtf", "20")
+    try:
+        term.read_until_prompt()
+        os.write(term.fd, b"rostopic echo /nobody\n")
+        _read_until(term, b"does not appear to be published yet")
+        os.write(term.fd, b"\x03")
+        out, _ = term.read_until_prompt()
+        message = ("^C: stopped the foreground command 'rostopic echo /nobody' (its nodes were "
+                   "shut down; background jobs keep running: 'jobs' lists them)")
+        assert out.endswith("\n")  # the prompt comes on a line of its own
+        last = out.rstrip("\n").split("\n")[-1]
+        assert last == "^C\r" + message  # the terminal's echo, then the message written over it
+        assert _visible(last) == message
+        out, _ = term.command("rosnode list")
+        assert out == "/rosout\n"  # the echo's node was shut down
+        assert term.close() == 0
+    finally:
+        if term.proc.poll() is None:
+            term.proc.kill()
+            term.proc.wait()
+
+
+def test_clear_erases_the_screen_as_a_shell_does(term: Terminal) -> None:
+    term.read_until_prompt()
+    out, _ = term.command("clear")
+    assert out == "\x1b[H\x1b[2J\x1b[3J"  # clear's ANSI on an xterm; the prompt follows at once
+    out, _ = term.command("clear -x")
+    assert out == "\x1b[H\x1b[2J"  # -x keeps the scrollback
+    assert term.close() == 0

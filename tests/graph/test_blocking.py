@@ -73,9 +73,13 @@ def test_blocking_loops_run_in_the_order_and_trace_of_yield_style(periods: list[
         == _loops("rospy", periods, until)
 
 
-def test_a_rospy_rate_sleep_is_interrupted_by_shutdown() -> None:
+def test_a_rospy_rate_sleep_is_interrupted_by_shutdown_on_sim_time_only() -> None:
+    """rospy/timer.py: on /clock time a shutdown raises ROSInterruptException in the sleep; on
+    the wall clock the sleep is time.sleep and ends on time."""
     world = ddes.World()
-    node = world.create_node("n")
+    node = world.create_node("n", use_sim_time=True)
+    clock = world.create_node("clock").advertise("/clock", ddes.get_message_class(
+        "rosgraph_msgs/Clock"), queue_size=1)
     log: list[str] = []
 
     def main() -> None:
@@ -86,10 +90,24 @@ def test_a_rospy_rate_sleep_is_interrupted_by_shutdown() -> None:
             log.append(f"{exc} at {world.now / 1e9}")
             raise
 
+    world.call_at(MS, lambda: clock.publish(clock=ddes.Time(1)))
     done = spawn(world, main, node=node)
     world.call_at(300 * MS, lambda: node.shutdown("bye"))
     world.run(until=5.0)
     assert log == ["ROS shutdown request at 0.3"] and done.ok and done.value is None
+
+    wall = ddes.World()
+    walled = wall.create_node("n")
+    ends: list[float] = []
+
+    def sleeper() -> None:
+        rospy.Rate(1).sleep()
+        ends.append(wall.now / 1e9)
+
+    spawn(wall, sleeper, node=walled)
+    wall.call_at(300 * MS, lambda: walled.shutdown("bye"))
+    wall.run(until=5.0)
+    assert ends == [1.0]
     with pytest.raises(BlockingOutsideNodeError, match="rate.sleep"):
         wait_ns(world.env, MS, "rate.sleep()")
 

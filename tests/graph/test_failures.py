@@ -4,10 +4,8 @@ from __future__ import annotations
 
 import traceback
 from collections.abc import Generator
-from pathlib import PurePath
+from pathlib import Path, PurePath
 from typing import Any
-
-from pathlib import Path
 
 import pytest
 
