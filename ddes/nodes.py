@@ -18,7 +18,10 @@ unchanged through :mod:`ddes.compat.scripts`, ``import rospy`` resolving to
 ``NodeType.name`` is the name the code would pass to ``init_node``; ``rosrun``
 ``__name:=`` and launch ``name=`` override it.  ``log_style`` selects how
 its log lines print (``"rospy"`` or ``"roscpp"``), so a C++ tutorial node prints
-``[ INFO] [...]`` as roscpp does.
+``[ INFO] [...]`` as roscpp does.  ``node_options(argv)``, when given, returns
+the other ``init_node`` options the program's command line asks for
+(``disable_rosout``, ``use_sim_time``, ``log_level``): ``rostopic pub`` calls
+``init_node(..., disable_rosout=True, disable_rostime=not --use-rostime)``.
 
 What a node program writes to standard output or error outside its logger
 (``rosbag play``'s ``Hit space to toggle paused``) goes through
@@ -31,11 +34,11 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import GeneratorType
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING, Any, Union
 
 from ddes.errors import DdesError
 from ddes.graph.rosout import ERROR, INFO
@@ -48,13 +51,19 @@ if TYPE_CHECKING:
     from ddes.graph.world import World
     from ddes.rospack import RosPack
 
-__all__ = ["SCRIPT_FOLDERS", "NodeExitedError", "NodeMain", "NodeType", "NodeTypeNotFound",
+__all__ = ["NODE_OPTION_NAMES", "SCRIPT_FOLDERS", "NodeExitedError", "NodeMain", "NodeOptionsFn",
+           "NodeType", "NodeTypeNotFound",
            "find_script", "list_scripts", "load_node_types", "node_cwd", "print_line",
            "start_node"]
 
 #: A node type's ``main(node)``: a plain function (set up, then spin) or a generator function
 #: (the main loop; it may return an int exit code).
 NodeMain = Callable[["Node"], Union["ProcessGenerator", None]]
+#: A node type's ``node_options(argv)``: the ``init_node`` options its command line (without the
+#: ROS arguments) asks for, among :data:`NODE_OPTION_NAMES`.
+NodeOptionsFn = Callable[[list[str]], Mapping[str, Any]]
+#: The node options a :class:`NodeType`'s ``node_options`` may set.
+NODE_OPTION_NAMES = frozenset({"disable_rosout", "use_sim_time", "log_level"})
 
 
 class NodeTypeNotFound(DdesError):
@@ -70,6 +79,7 @@ class NodeType:
     anonymous: bool = False
     log_style: str = "rospy"
     doc: str = ""
+    node_options: NodeOptionsFn | None = None
 
 
 def load_node_types(package_dir: Path) -> dict[str, NodeType]:
@@ -114,6 +124,11 @@ def start_node(
     except KeyError:
         script = find_script(rospack.get_path(package), node_type, package)
         if script is not None:
+            from ddes.roscpp.executables import is_native
+
+            if is_native(script):  # a compiled node (catkin_make): a process in lockstep
+                return _start_native(world, package, script, name=name, namespace=namespace,
+                                     argv=argv, remappings=remappings, cwd=cwd)
             return _start_script(world, package, script, name=name, namespace=namespace,
                                  argv=argv, remappings=remappings, cwd=cwd)
         known = ", ".join(sorted(types) + [p.name for p in list_scripts(
@@ -122,9 +137,18 @@ def start_node(
             f"Couldn't find executable named {node_type} below {rospack.get_path(package)} "
             f"(node types of {package}: {known})"
         ) from None
+    options: dict[str, Any] = {}
+    if nt.node_options is not None:
+        from ddes.graph.names import parse_node_args
+
+        options = dict(nt.node_options(parse_node_args(list(argv)).args))
+        unknown = sorted(set(options) - NODE_OPTION_NAMES)
+        if unknown:
+            raise DdesError(f"node_options of {package}/{node_type} set {', '.join(unknown)}; "
+                            f"they may set only {', '.join(sorted(NODE_OPTION_NAMES))}")
     node = world.create_node(name or nt.name, namespace=namespace, argv=list(argv),
                              remappings=remappings, anonymous=nt.anonymous and name is None,
-                             log_style=nt.log_style)
+                             log_style=nt.log_style, **options)
     if cwd is not None:
         world.extension(_CWD_KEY, _new_cwd_table)[node] = cwd
     result = nt.main(node)
@@ -234,7 +258,13 @@ def find_script(package_dir: Path, node_type: str, package: str = "") -> Path | 
             return path
     if "/" in node_type or node_type in ("", ".", ".."):
         return None
-    matches = find_executables(Path(package_dir), node_type)
+    from ddes.roscpp.executables import libexec_folders
+
+    # catkin's devel space first (catkin_find --libexec), then the package's own folder
+    matches = [m for folder in libexec_folders(package or _name_of(Path(package_dir)),
+                                               Path(package_dir))
+               for m in find_executables(folder, node_type)]
+    matches += find_executables(Path(package_dir), node_type)
     if len(matches) > 1:
         listed = "".join(f"\n- {m}" for m in matches)
         raise AmbiguousNodeType(f"multiple files named [{node_type}] in package "
@@ -274,6 +304,39 @@ def _start_script(world: World, package: str, script: Path, *, name: str | None,
         code = done.value if done.triggered and done.ok else 1
         raise NodeExitedError(f"{package}/{script.name} exited with code {code} before "
                               "rospy.init_node: there is no node (check its arguments)")
+    if cwd is not None:
+        world.extension(_CWD_KEY, _new_cwd_table)[node] = cwd
+    return node
+
+
+def _name_of(package_dir: Path) -> str:
+    from ddes.rospack import _package_name
+
+    return _package_name(package_dir)
+
+
+def _start_native(world: World, package: str, program: Path, *, name: str | None,
+                  namespace: str, argv: Sequence[str], remappings: dict[str, str] | None,
+                  cwd: str | None) -> Node:
+    """Run a compiled node (a C++ program built against ddes's roscpp) as an external node
+    (:mod:`ddes.roscpp.host`); its node once it called ``ros::init``."""
+    from ddes.roscpp.executables import start_executable
+
+    started: list[Node] = []
+
+    def out(text: str, stderr: bool) -> None:
+        if started:
+            print_line(started[0], text, stderr=stderr)
+        else:
+            (sys.stderr if stderr else sys.stdout).write(text + "\n")
+
+    host, node = start_executable(world, program, argv, name=name, namespace=namespace,
+                                  remappings=remappings, cwd=cwd, print_line=out)
+    if node is None:
+        code = host.exit_code if host.exit_code is not None else 1
+        raise NodeExitedError(f"{package}/{program.name} exited with code {code} before "
+                              "ros::init: there is no node (check its arguments)")
+    started.append(node)
     if cwd is not None:
         world.extension(_CWD_KEY, _new_cwd_table)[node] = cwd
     return node

@@ -15,6 +15,13 @@ recorded and ignored with a warning; ``<test>`` is checked and ignored (as
 plain roslaunch ignores it) with a warning; command-line args that the
 top-level file does not declare are an error ("unused args"), as they are
 for ``<include>``.
+
+The loader never recurses (``<group>`` and ``<include>`` push their elements
+on its own stack), so a deep file costs memory and work, which the budgets
+bound (:data:`MAX_NESTING`, :data:`MAX_INCLUDE_DEPTH`, :data:`MAX_LOAD_FILES`,
+:data:`MAX_LOAD_BYTES`, ``ddes.launch.scope.MAX_LOAD_WORK`` and
+``ddes.launch.xmltree.MAX_XML_ELEMENTS``), each above what roslaunch itself
+reads before its ``RecursionError``.
 """
 
 from __future__ import annotations
@@ -22,16 +29,16 @@ from __future__ import annotations
 import os
 import random
 import shlex
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import fields
+from dataclasses import dataclass, fields
 
 from ddes.errors import DdesValueError, ResourceLimitError, ROSLaunchException
 from ddes.graph.names import canonicalize_name, get_ros_namespace, is_legal_name
 from ddes.graph.yamlsafe import read_bounded
 from ddes.launch.params import ParamLoader
 from ddes.launch.plan import TEST_TIME_LIMIT_DEFAULT, LaunchPlan, NodeSpec, TestSpec
-from ddes.launch.scope import Scope
+from ddes.launch.scope import ENTRY_COST, LoadBudget, Scope
 from ddes.launch.substitution import (
     CostlyLaunchExpression,
     LaunchLimitError,
@@ -41,16 +48,58 @@ from ddes.launch.substitution import (
     resolve_args,
 )
 from ddes.launch.values import ParamValue, convert_value, parse_bool_attr, parse_float_attr
-from ddes.launch.xmltree import Element, parse_xml
+from ddes.launch.xmltree import Element, ElementBudget, parse_xml
 from ddes.rospack import RosPack
 
-__all__ = ["MAX_INCLUDE_DEPTH", "MAX_NESTING", "load_launch"]
+__all__ = ["MAX_INCLUDE_DEPTH", "MAX_LOAD_BYTES", "MAX_LOAD_FILES", "MAX_NESTING", "chain_text",
+           "load_launch"]
 
-#: How deep ``<include>`` may nest (a file including itself would recurse for ever).
-MAX_INCLUDE_DEPTH = 40
-#: How deep ``<group>`` and ``<include>`` may nest in all, across files (each level is a
-#: Python call; roslaunch itself dies with RecursionError near 450 levels).
-MAX_NESTING = 128
+#: How deep ``<include>`` may nest (a file including itself would recurse for ever); roslaunch
+#: dies with RecursionError near 330 (three Python calls per level, on a 1000-frame limit).
+MAX_INCLUDE_DEPTH = 1000
+#: How deep ``<group>`` and ``<include>`` may nest in all, across files.  The loader keeps its
+#: own stack (no Python recursion), so this bounds only the memory of the open scopes; what a
+#: deep file costs is bounded by the budgets (``ddes.launch.scope.MAX_LOAD_WORK``, the
+#: elements of ``ddes.launch.xmltree.MAX_XML_ELEMENTS``).  roslaunch dies with RecursionError
+#: near 990 empty groups (490 with a node inside).
+MAX_NESTING = 5000
+#: The launch XML one load may read in all, the file and its includes (each time one is read).
+MAX_LOAD_BYTES = 64 << 20
+#: How many launch files one load may read, counting an include each time it is read (a file
+#: that includes another one 20 times, which includes another 20 times ..., multiplies them).
+MAX_LOAD_FILES = 5000
+#: How many ``included from`` lines an error shows at each end of a long include chain.
+_CHAIN_SHOWN = 10
+
+
+def chain_text(chain: Sequence[str]) -> str:
+    """The ``included from`` lines of an error, innermost first; a chain longer than 20 shows
+    its 10 innermost and 10 outermost files around a count of the rest."""
+    lines = [f"\n  included from {c}" for c in reversed(chain)]
+    if len(lines) > 2 * _CHAIN_SHOWN:
+        skipped = len(lines) - 2 * _CHAIN_SHOWN
+        lines[_CHAIN_SHOWN:-_CHAIN_SHOWN] = [f"\n  ... {skipped} more includes ..."]
+    return "".join(lines)
+
+
+@dataclass
+class _Enter:
+    """What a ``<group>`` or ``<include>`` asks the loader to read next: ``elements`` in
+    ``scope``, then ``done()`` (the include's unused-args check)."""
+
+    elements: list[Element]
+    scope: Scope
+    done: Callable[[], None] | None = None
+
+
+@dataclass
+class _Level:
+    """One open level of the loader's stack: the elements of a <launch>, <group> or file."""
+
+    elements: list[Element]
+    scope: Scope
+    done: Callable[[], None] | None = None
+    index: int = 0
 
 _NODE_ATTRS = ("pkg", "type", "machine", "name", "args", "output", "respawn", "respawn_delay",
                "cwd", "ns", "clear_params", "launch-prefix", "required")
@@ -104,11 +153,14 @@ class _Loader:
         self.environ = environ
         self.anon = anon
         self.plan = LaunchPlan()
-        self.params = ParamLoader(self.plan)
+        self.budget = LoadBudget()
+        self.elements = ElementBudget()
+        self.bytes_read = 0
+        self.files_read = 0
+        self.params = ParamLoader(self.plan, self.budget)
         self._node_names: set[str] = set()
         self._machines: list[str] = []
         self._located: BaseException | None = None
-        self._depth = 0
 
     # -- errors ----------------------------------------------------------------------------
 
@@ -121,8 +173,7 @@ class _Loader:
             if exc is self._located:
                 raise
             where = f"{scope.filename or '<string>'}:{el.line}"
-            chain = "".join(f"\n  included from {c}" for c in reversed(scope.chain))
-            err = _located_kind(exc)(f"{where}: {el.start_tag()}: {exc}{chain}")
+            err = _located_kind(exc)(f"{where}: {el.start_tag()}: {exc}{chain_text(scope.chain)}")
             self._located = err
             raise err from None
 
@@ -165,35 +216,50 @@ class _Loader:
     def read_launch(self, path: str, site: tuple[Element, Scope] | None = None,
                     chain: tuple[str, ...] = ()) -> Element:
         """Parse launch file ``path`` (included at ``site``); its root must be <launch>."""
-        included = "".join(f"\n  included from {c}" for c in reversed(chain))
+        included = chain_text(chain)
+        error: type[ROSLaunchException] = ROSLaunchException
         try:
+            self.files_read += 1
+            if self.files_read > MAX_LOAD_FILES:
+                raise LaunchLimitError(
+                    f"reading {path} would make more than {MAX_LOAD_FILES} launch files read in "
+                    "one load (ddes.launch.loader.MAX_LOAD_FILES; every include counts each time "
+                    "it is read); include files fewer times")
             if not os.path.lexists(path):
                 raise FileNotFoundError(path)
             # A regular file of at most 16 MiB: /dev/zero, FIFOs and directories are
             # refused before they are opened.
             data = read_bounded(path, what="launch file", error=ROSLaunchException)
+            self.bytes_read += len(data)
+            if self.bytes_read > MAX_LOAD_BYTES:
+                raise LaunchLimitError(
+                    f"reading {path} makes {self.bytes_read} bytes of launch XML in one load, "
+                    f"more than {MAX_LOAD_BYTES} (ddes.launch.loader.MAX_LOAD_BYTES; every "
+                    "include counts each time it is read); include large files fewer times")
         except FileNotFoundError:
             msg = (f"launch file not found: {path}. Check the path; "
                    "$(find pkg)/launch/x.launch names a file inside a package")
         except (ROSLaunchException, ResourceLimitError) as exc:
             msg = str(exc)
+            if isinstance(exc, ResourceLimitError):
+                error = LaunchLimitError
         else:
             try:
                 return self.parse_root(data, path)
             except ROSLaunchException as exc:
-                raise ROSLaunchException(str(exc) + included) from None
+                raise _located_kind(exc)(str(exc) + included) from None
         msg += included if site is None else ""
         if site is not None:
             with self.at(*site):
-                raise ROSLaunchException(msg)
-        raise ROSLaunchException(msg)
+                raise error(msg)
+        raise error(msg)
 
     def parse_root(self, data: bytes, filename: str) -> Element:
         """Parse XML bytes and check the root element."""
         try:
-            root = parse_xml(data, filename)
+            root = parse_xml(data, filename, self.elements)
         except ResourceLimitError as exc:
-            raise ROSLaunchException(str(exc)) from None
+            raise LaunchLimitError(str(exc)) from None
         if root.tag != "launch":
             raise ROSLaunchException(
                 f"{filename}:{root.line}: Invalid roslaunch XML syntax: no root <launch> tag "
@@ -227,7 +293,7 @@ class _Loader:
         except DdesValueError as exc:
             raise ROSLaunchException(f"invalid root namespace: {exc}") from None
         subst = SubstitutionContext(self.rospack, self.environ, self.anon, filename, dict(args))
-        scope = Scope(ns=ns, subst=subst)
+        scope = Scope(ns=ns, subst=subst, budget=self.budget)
         if text is not None:
             root = self.parse_root(text.encode("utf-8"), "<string>")
         else:
@@ -248,26 +314,29 @@ class _Loader:
         return self.plan
 
     def recurse(self, elements: list[Element], scope: Scope) -> None:
-        """Process the tags of a <launch>, <group> or included file, in order."""
-        self._depth += 1
-        try:
-            if self._depth > MAX_NESTING:
-                raise ROSLaunchException(
-                    f"{scope.filename or '<string>'}: <group>s and <include>s nest more than "
-                    f"{MAX_NESTING} deep in all (counting across included files); flatten the "
-                    "groups" + "".join(f"\n  included from {c}" for c in reversed(scope.chain)))
-            self._recurse(elements, scope)
-        finally:
-            self._depth -= 1
+        """Process the tags of a <launch>, <group> or included file, in order.
 
-    def _recurse(self, elements: list[Element], scope: Scope) -> None:
-        handlers = {
-            "arg": self.arg_tag, "group": self.group_tag, "node": self.node_tag,
+        A <group> or <include> does not call this again: it returns an :class:`_Enter` and
+        its elements go on the loader's own stack, so nesting costs memory, never Python
+        stack (roslaunch recurses, and dies with RecursionError near 990 levels).
+        """
+        handlers: dict[str, Callable[[Element, Scope], _Enter | None]] = {
+            "arg": self._arg, "group": self.group_tag, "node": self.node_tag,
             "test": self.test_tag, "param": self.param_tag, "rosparam": self.rosparam_tag,
             "remap": self.remap_tag, "include": self.include_tag, "env": self.env_tag,
             "machine": self.machine_tag,
         }
-        for el in elements:
+        stack = [_Level(elements, scope)]
+        while stack:
+            level = stack[-1]
+            if level.index >= len(level.elements):
+                stack.pop()
+                if level.done is not None:
+                    level.done()
+                continue
+            el = level.elements[level.index]
+            level.index += 1
+            scope = level.scope
             if el.tag == "master":
                 self.plan.warnings.append("ignoring defunct <master /> tag")
                 continue
@@ -279,8 +348,21 @@ class _Loader:
                         f"{', '.join(sorted(handlers))}"
                     )
                 continue  # pragma: no cover - at() always raises here
-            if self.enabled(el, scope):
-                handler(el, scope)
+            if not self.enabled(el, scope):
+                continue
+            enter = handler(el, scope)
+            if enter is None:
+                continue
+            if len(stack) >= MAX_NESTING:
+                inner = enter.scope
+                raise LaunchLimitError(
+                    f"{inner.filename or '<string>'}: <group>s and <include>s nest more than "
+                    f"{MAX_NESTING} deep in all (ddes.launch.loader.MAX_NESTING, counting "
+                    "across included files); flatten the groups" + chain_text(inner.chain))
+            stack.append(_Level(enter.elements, enter.scope, enter.done))
+
+    def _arg(self, el: Element, scope: Scope) -> None:
+        self.arg_tag(el, scope)
 
     # -- simple tags ------------------------------------------------------------------------
 
@@ -336,13 +418,14 @@ class _Loader:
                 "process"
             )
 
-    def group_tag(self, el: Element, scope: Scope) -> None:
+    def group_tag(self, el: Element, scope: Scope) -> _Enter:
         """<group ns clear_params>: a child scope with a copy of the ~params."""
         with self.at(el, scope):
             self.check_attrs(el, _ATTRS["group"])
             child = self.ns_clear_params(el, scope)
-            child.private_params = list(child.private_params)
-        self.recurse(el.children, child)
+            self.budget.charge(ENTRY_COST * len(child.private_params), "copying ~params")
+            child.private_params = dict(child.private_params)
+        return _Enter(el.children, child)
 
     def ns_clear_params(self, el: Element, scope: Scope, node_name: str | None = None) -> Scope:
         """The child scope of a tag with ``ns``/``clear_params`` (roslaunch rules)."""
@@ -412,7 +495,7 @@ class _Loader:
                 )
             child = self.ns_clear_params(el, scope, node_name=name)
             param_scope = child.child(name)
-            param_scope.private_params = []
+            param_scope.private_params = {}
             pkg, node_type = self.req(el, scope, "pkg"), self.req(el, scope, "type")
             o = {a: self.opt(el, scope, a) for a in ("machine", "args", "output", "respawn",
                                                      "respawn_delay", "cwd", "launch-prefix",
@@ -420,7 +503,7 @@ class _Loader:
             required = parse_bool_attr(o["required"], False, "required")
             respawn = parse_bool_attr(o["respawn"], False, "respawn")
             respawn_delay = parse_float_attr(o["respawn_delay"], 0.0, "respawn_delay")
-        remap_scope, env_scope = scope.child(""), scope.child("")
+            remap_scope, env_scope = scope.child(""), scope.child("")
         own: dict[str, ParamValue] = {}
         self.params.sink = own
         for c in el.children:
@@ -445,7 +528,11 @@ class _Loader:
             else:
                 self.env_tag(c, env_scope)
         with self.at(el, scope):
-            for key, value in scope.private_params + param_scope.private_params:
+            inherited = list(scope.private_params.items())
+            own_private = list(param_scope.private_params.items())
+            self.budget.charge(ENTRY_COST * (len(inherited) + len(own_private)),
+                               f"setting the ~params of node {name}")
+            for key, value in inherited + own_private:
                 self.params.add(param_scope.ns + (key[1:] if key.startswith("~") else key),
                                 value)
             self.params.sink = None
@@ -539,7 +626,7 @@ class _Loader:
 
     # -- include -----------------------------------------------------------------------------
 
-    def include_tag(self, el: Element, scope: Scope) -> None:
+    def include_tag(self, el: Element, scope: Scope) -> _Enter:
         """<include file ns clear_params pass_all_args> with child <arg>/<env>."""
         with self.at(el, scope):
             self.check_attrs(el, _ATTRS["include"])
@@ -547,7 +634,7 @@ class _Loader:
             pass_all = parse_bool_attr(self.opt(el, scope, "pass_all_args"), False,
                                        "pass_all_args")
             child = self.ns_clear_params(el, scope)
-            child.arg_names = []
+            child.arg_names = {}
             child.include_args = {}
             if pass_all:
                 for name, value in scope.subst.args.items():
@@ -576,21 +663,25 @@ class _Loader:
                 )
         with self.at(el, scope):
             args_passed = list(passed)
-            child.arg_names = []
+            child.arg_names = {}
             child.include_args = None
             child.subst = SubstitutionContext(self.rospack, self.environ, self.anon, inc,
                                               dict(passed), expansion=scope.subst.expansion)
+            self.budget.charge(ENTRY_COST * (len(scope.chain) + 1), "including a file")
             child.chain = scope.chain + (f"{scope.filename or '<string>'}:{el.line}",)
             if len(child.chain) > MAX_INCLUDE_DEPTH:
-                raise ROSLaunchException(
-                    f"includes nested more than {MAX_INCLUDE_DEPTH} deep: does a file include "
-                    "itself? Guard a recursive include with if=\"...\""
+                raise LaunchLimitError(
+                    f"includes nested more than {MAX_INCLUDE_DEPTH} deep "
+                    "(ddes.launch.loader.MAX_INCLUDE_DEPTH): does a file include itself? Guard "
+                    "a recursive include with if=\"...\""
                 )
         root = self.read_launch(inc, (el, scope), child.chain)
         self.plan.files.append(inc)
         self.launch_tag(root, child)
-        self.recurse(root.children, child)
-        if not pass_all:
+
+        def done() -> None:
+            if pass_all:
+                return
             unused = [a for a in args_passed if a not in child.arg_names]
             if unused:
                 with self.at(sites.get(unused[0], el), scope):
@@ -598,6 +689,8 @@ class _Loader:
                         f"unused args [{', '.join(unused)}] for include of [{inc}]; the "
                         "included file declares no such <arg> (check the spelling)"
                     )
+
+        return _Enter(root.children, child, done)
 
 
 def _located_kind(exc: BaseException) -> type[ROSLaunchException]:

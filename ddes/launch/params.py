@@ -13,7 +13,7 @@ siblings alone.
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
@@ -21,6 +21,7 @@ from ddes.errors import ROSLaunchException
 from ddes.graph.names import canonicalize_name, is_private, ns_join
 from ddes.graph.yamlsafe import read_bounded
 from ddes.launch.plan import LaunchPlan, RosparamCommand
+from ddes.launch.scope import SCOPE_COST, LoadBudget
 from ddes.launch.substitution import resolve_args
 from ddes.launch.values import ParamValue, convert_value, load_rosparam_yaml, parse_bool_attr
 from ddes.launch.xmltree import Element
@@ -32,6 +33,8 @@ if TYPE_CHECKING:
 __all__ = ["ParamLoader"]
 
 _PARAM_ATTRS = ("name", "value", "type", "textfile", "binfile", "command")
+#: The key marking a parameter in :class:`ParamLoader`'s tree (never a name part).
+_IS_PARAM = None
 _ROSPARAM_ATTRS = ("command", "ns", "file", "param", "subst_value")
 
 
@@ -42,23 +45,39 @@ class ParamLoader:
     sets, for :attr:`~ddes.launch.plan.NodeSpec.params`.
     """
 
-    def __init__(self, plan: LaunchPlan) -> None:
+    def __init__(self, plan: LaunchPlan, budget: LoadBudget | None = None) -> None:
         self.plan = plan
+        self.budget = budget if budget is not None else LoadBudget()
         self.sink: dict[str, ParamValue] | None = None
+        #: The names in the plan as a tree of their parts (``_IS_PARAM`` marks a parameter),
+        #: so a name's parents are found in one walk, not one slice per level.
+        self._tree: dict[str | None, Any] = {}
 
     def add(self, key: str, value: ParamValue) -> None:
         """Set ``key`` in the plan (later values win; the first position is kept)."""
         key = canonicalize_name(key)
+        self.budget.charge(len(key), f"setting parameter {key[:80]}")
         parts = [p for p in key.split("/") if p]
-        parents = ["/"] + ["/" + "/".join(parts[:i]) for i in range(1, len(parts))]
-        for parent in parents:
-            if parent in self.plan.params:
-                self.plan.warnings.append(
-                    f"parameter [{key}] conflicts with parent parameter [{parent}]"
-                )
+        node = self._tree
+        if _IS_PARAM in node:
+            self._conflict(key, "/")
+        for i, part in enumerate(parts):
+            child = node.get(part)
+            if child is None:
+                self.budget.charge(SCOPE_COST, f"setting parameter {key[:80]}")
+                child = node[part] = {}
+            node = child
+            if i < len(parts) - 1 and _IS_PARAM in node:
+                self._conflict(key, "/" + "/".join(parts[:i + 1]))
+        node[_IS_PARAM] = True
         self.plan.params[key] = value
         if self.sink is not None:
             self.sink[key] = value
+
+    def _conflict(self, key: str, parent: str) -> None:
+        warning = f"parameter [{key}] conflicts with parent parameter [{parent}]"
+        self.budget.charge(len(warning), f"setting parameter {key[:80]}")
+        self.plan.warnings.append(warning)
 
     def add_tree(self, name: str, value: ParamValue) -> None:
         """Set ``value`` at ``name``, unrolling dictionaries into leaf parameters."""

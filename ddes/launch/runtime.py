@@ -9,7 +9,9 @@ process has finished cleanly``, ``[talker-1] restarting process``, the
 REQUIRED banner, ``[x] killing on exit`` ...), watches the processes and:
 
 * ``respawn="true"``: restarts a node ``respawn_delay`` simulated seconds
-  after it exits (its main loop returned, it was killed);
+  after it exits (its main loop returned or raised, it was killed, it died at
+  start); a shutdown while it waits prints ``[x-3] killing on exit`` for it,
+  as roslaunch's process monitor still holds it;
 * ``required="true"``: shuts the whole launch down when the node exits;
 * ``output="screen"``: the node's log lines print; otherwise only its
   warnings and errors do (roslaunch sends stdout to a log file and keeps
@@ -167,6 +169,9 @@ class Process:
         self.node: Node | None = None
         self.alive = False
         self.starts = 0
+        #: Dead and waiting ``respawn_delay`` to restart: still roslaunch's process (its
+        #: process monitor keeps it registered), so a shutdown "kills" it too.
+        self.respawning = False
 
 
 class LaunchRunner:
@@ -199,6 +204,8 @@ class LaunchRunner:
 
     # -- start ---------------------------------------------------------------------------------
     def _next_label(self, name: str) -> str:
+        """roslaunch's process name: ``ns_join(namespace, name)`` less its leading slash, and a
+        counter (``foo/param_talker-2``)."""
         self._count += 1
         return f"{name}-{self._count}"
 
@@ -267,14 +274,14 @@ class LaunchRunner:
         """Start every node of the plan, in order (rostest's ``launch()`` calls this after
         :meth:`setup_params`, with no core and a test process of its own)."""
         for spec in self.plan.nodes:
-            proc = Process(spec, self._next_label(spec.name))
+            proc = Process(spec, self._next_label(spec.full_name[1:]))
             self.processes.append(proc)
             self._launch(proc)
 
     def add_process(self, spec: NodeSpec) -> Process:
         """Register a process started by someone else (rostest's test node): it gets the next
         ``name-N`` label and counts as alive until :meth:`process_exited`."""
-        proc = Process(spec, self._next_label(spec.name))
+        proc = Process(spec, self._next_label(spec.full_name[1:]))
         proc.alive = True
         self.processes.append(proc)
         return proc
@@ -369,6 +376,7 @@ class LaunchRunner:
         self.out(f"[{proc.label}] {desc}")
         if spec.respawn:
             delay = max(0.0, float(spec.respawn_delay))
+            proc.respawning = True
             self._schedule(delay, lambda: self._respawn(proc))
             return
         if not any(p.alive for p in self.processes) and not any(
@@ -383,6 +391,7 @@ class LaunchRunner:
     def _respawn(self, proc: Process) -> None:
         if self._shutting_down or self.done or proc.alive:
             return
+        proc.respawning = False
         self.out(f"[{proc.label}] restarting process")
         self._launch(proc)
 
@@ -403,7 +412,10 @@ class LaunchRunner:
 
     def _kill_live(self) -> None:
         for proc in reversed(self.processes):
-            if proc.alive:
+            if proc.respawning:  # roslaunch's monitor still holds it: "killed" too, no restart
+                self.out(f"[{proc.label}] killing on exit")
+                proc.respawning = False
+            elif proc.alive:
                 self.out(f"[{proc.label}] killing on exit")
                 proc.alive = False
                 if proc.node is not None:

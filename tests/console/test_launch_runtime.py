@@ -71,7 +71,7 @@ def test_bundled_launch_with_include_remap_and_yaml(console: Console) -> None:
     assert "NODES\n  /\n    listener (roscpp_tutorials/listener)\n  /foo/\n" \
            "    param_talker (rospy_tutorials/param_talker)\n\n" in out
     assert ("ROS_MASTER_URI=http://localhost:11311\n\n"
-            f"process[param_talker-1]: started with pid [{node_pid('/foo/param_talker')}]\n"
+            f"process[foo/param_talker-1]: started with pid [{node_pid('/foo/param_talker')}]\n"
             f"process[listener-2]: started with pid [{node_pid('/listener')}]\n") in out
     # the parameters were all set before the node read them
     assert "[INFO] [0.000000]: gains are 1.0, 2.0, 3.0\n" in out
@@ -86,7 +86,7 @@ def test_bundled_launch_with_include_remap_and_yaml(console: Console) -> None:
 def test_launch_args_and_duration(console: Console) -> None:
     out = console.run("roslaunch --duration 1.5 rospy_tutorials param_talker.launch ns:=bar")
     assert "/bar/utterance is Hello World" in out
-    assert out.endswith("[listener-2] killing on exit\n[param_talker-1] killing on exit\n"
+    assert out.endswith("[listener-2] killing on exit\n[bar/param_talker-1] killing on exit\n"
                         "shutting down processing monitor...\n"
                         "... shutting down processing monitor complete\ndone\n")
     assert console.world.now == 1_500_000_000
