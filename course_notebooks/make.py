@@ -115,12 +115,14 @@ def stale() -> list[str]:
     return out
 
 
-def execute(path: Path, timeout: int = 120) -> tuple[Any, float]:
-    """Run a notebook as Jupyter does (kernel python3, Agg, cwd = this folder); (nb, seconds)."""
+def execute(path: Path | Any, timeout: int = 120, cwd: Path | None = None) -> tuple[Any, float]:
+    """Run a notebook as Jupyter does (kernel python3, Agg); (nb, seconds).  ``path`` is a file
+    or a notebook already read; the kernel starts in ``cwd`` (default: this folder, where
+    Jupyter starts it; the notebooks find what they need from any folder)."""
     import nbformat
     from nbclient import NotebookClient
 
-    nb = nbformat.read(path, as_version=4)
+    nb = nbformat.read(path, as_version=4) if isinstance(path, (str, Path)) else path
     env = {"MPLBACKEND": "Agg",
            "PYTHONPATH": os.pathsep.join(filter(None, [str(HERE.parent),
                                                        os.environ.get("PYTHONPATH")]))}
@@ -129,7 +131,7 @@ def execute(path: Path, timeout: int = 120) -> tuple[Any, float]:
     try:
         start = time.perf_counter()
         NotebookClient(nb, timeout=timeout, kernel_name="python3",
-                       resources={"metadata": {"path": str(HERE)}}).execute()
+                       resources={"metadata": {"path": str(cwd or HERE)}}).execute()
         seconds = time.perf_counter() - start
     finally:
         for k, v in saved.items():

@@ -118,6 +118,8 @@ def test_measure_gives_the_ratios_of_its_counts(instructions: Any, work: Path,
 
 
 @needs_valgrind
+@pytest.mark.slow
+@pytest.mark.ci  # about a minute and a half on two cores: CI runs it (.ci/run)
 def test_a_real_case_runs_at_the_tiny_size(instructions: Any,
                                            monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("DDES_BENCH_TINY", "1")

@@ -17,13 +17,17 @@
 # %%
 import hashlib
 import json
+import os
 import shutil
 import tempfile
 from pathlib import Path
 
 import yaml
 from IPython.display import Image
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
+import ddes
 from ddes.display.figure import new_figure
 from ddes.grading import grade
 from ddes.grading.exercise import REGISTRY
@@ -31,7 +35,23 @@ from ddes.grading.mutants import apply_diff, load_mutants, sensitivity
 from ddes.grading.replay import replay
 from ddes.grading.sweep import sweep
 
-ROOT = Path("..").resolve()  # the notebook runs in course_notebooks/
+
+def course_root():
+    """The course's checkout (the folder holding solutions/), wherever the notebook runs:
+    next to the ddes package (a source checkout, an editable install), else above the
+    notebook Jupyter says it runs, else the working folder or one above it (Jupyter starts the
+    kernel in the notebook's folder)."""
+    here = Path.cwd().resolve()
+    notebook = Path(os.environ.get("JPY_SESSION_NAME", here / "notebook")).resolve().parent
+    for root in [Path(ddes.__file__).resolve().parent.parent, notebook.parent, here,
+                 *here.parents]:
+        if (root / "solutions" / "ex3_pillar").is_dir():
+            return root
+    raise FileNotFoundError("solutions/ex3_pillar not found: open this notebook from the "
+                            "course's checkout (course_notebooks/ next to solutions/)")
+
+
+ROOT = course_root()
 work = Path(tempfile.mkdtemp())
 ex3 = REGISTRY.get("ex3_pillar")
 reference = ROOT / "solutions" / "ex3_pillar"
@@ -114,7 +134,7 @@ for row in matrix.rows:
     digests += row.report.digests.values()
 
 # %% tags=["plot"]
-fig = new_figure(figsize=(6, 2.6))
+fig = new_figure(figsize=(7.5, 2.9))
 ax = fig.add_subplot(1, 1, 1)
 top = {c.id: c.max_points for c in ex2.criteria}
 cells = [[row.lost.get(c, 0.0) / top[c] for c in matrix.criteria] for row in matrix.rows]
@@ -125,7 +145,19 @@ for i, row in enumerate(matrix.rows):
         ax.text(j, i, (f"{lost:.3g}" if lost else ".") + ("*" if c in row.expected else ""),
                 ha="center", va="center", fontsize=8)
 ax.set_xticks(range(len(matrix.criteria)), matrix.criteria)
-ax.set_yticks(range(len(matrix.rows)), [f"{r.name} ({r.kind})" for r in matrix.rows])
+names = [r.name if r.kind == "reference" else f"{r.name} ({r.kind})" for r in matrix.rows]
+ax.set_yticks(range(len(matrix.rows)), names)  # one label per row
+ax.set_xlabel("criterion")
+ax.set_ylabel("submission (kind)")
+ax.legend(handles=[
+    Patch(color="tab:red", label="shade: share of the criterion lost (0-100 %)"),
+    Line2D([], [], marker="$2.5$", markersize=12, color="black", linestyle="none",
+           label="number: points lost"),
+    Line2D([], [], marker=".", markersize=4, color="black", linestyle="none",
+           label="nothing lost"),
+    Line2D([], [], marker="$*$", markersize=8, color="black", linestyle="none",
+           label="a criterion the bug must lose")],
+    loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
 ax.set_title("ex2_package kill matrix: share of each criterion lost")
 fig.tight_layout()
 fig

@@ -67,10 +67,12 @@ sh("rostopic echo -n 1 /odom/pose/pose/position")
 
 # %% [markdown]
 # The speed over time, as rqt_plot draws it: a short bump for `pub -1`, then a plateau while
-# `pub -r 10` runs, and the drop 0.25 s after its last message.
+# `pub -r 10` runs, and the drop 0.25 s after its last message. The turn rate has another unit
+# (rad/s), so it gets its own y-axis on the right (dashed).
 
 # %% tags=["plot"]
-rqt_plot(console.world, "/odom/twist/twist/linear/x", "/odom/twist/twist/angular/z")
+rqt_plot(console.world, "/odom/twist/twist/linear/x", ylabel="speed [m/s]",
+         right=["/odom/twist/twist/angular/z"], right_ylabel="turn rate [rad/s]")
 
 # %% [markdown]
 # The robot seen from above (what RViz would show): the world, the robot's footprint, the last

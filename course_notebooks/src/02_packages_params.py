@@ -110,7 +110,7 @@ sh("rostopic echo -n 1 /closest_range/closest")
 # The closest range over time, as `rqt_plot /closest_range/closest/data` draws it:
 
 # %% tags=["plot"]
-rqt_plot(console.world, "/closest_range/closest/data")
+rqt_plot(console.world, "/closest_range/closest/data", ylabel="closest range [m]")
 
 # %% [markdown]
 # One scan in polar form (what the node sees: range against bearing; beam *i* points at
@@ -125,7 +125,9 @@ ax = fig.add_subplot(projection="polar")
 ax.plot([a for a, r in zip(angles, scan.ranges) if math.isfinite(r)],
         [r for r in scan.ranges if math.isfinite(r)], ".", markersize=3)
 ax.set_theta_zero_location("N")
-ax.set_title("the last /scan (bearing 0 = straight ahead)")
+ax.set_xlabel("bearing [°] (0 = straight ahead, counter-clockwise)")
+ax.set_ylabel("range [m]", labelpad=28)
+ax.set_title("the last /scan")
 fig
 
 # %% tags=["plot"]

@@ -135,7 +135,8 @@ fig
 # The commanded turn rate over time (rqt_plot of `/cmd_vel/angular/z`) in the console's run:
 
 # %% tags=["plot"]
-rqt_plot(console.world, "/cmd_vel/angular/z", "/odom/twist/twist/angular/z")
+rqt_plot(console.world, "/cmd_vel/angular/z", "/odom/twist/twist/angular/z",
+         ylabel="turn rate [rad/s]")
 
 # %% [markdown]
 # One digest for all five runs: the console's world and the four of the gain sweep.

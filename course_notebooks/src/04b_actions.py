@@ -117,7 +117,9 @@ print("last goal:", GoalStatus(client.get_state()).name)
 # preempt request and the terminal state.
 
 # %% tags=["plot"]
-plot_goals(world, ns="/follow_path")
+timeline = plot_goals(world, ns="/follow_path")
+timeline.axes[0].set_ylabel("goal (id)")
+timeline
 
 # %% [markdown]
 # The paths against the track the robot drove:
@@ -131,6 +133,8 @@ for name, pts, style in (("path A", path_a, "o--"), ("path B", path_b, "s--")):
     ax.plot([x for x, _ in pts], [y for _, y in pts], style, label=name)
 ax.plot([0.0], [0.0], "k^", label="start")
 ax.set_aspect("equal")
+ax.set_xlabel("x [m]")
+ax.set_ylabel("y [m]")
 ax.legend(fontsize=8)
 ax.set_title("goals and the track")
 fig
@@ -140,7 +144,7 @@ fig
 
 # %% tags=["plot"]
 rqt_plot(world, "/follow_path/feedback/feedback/remaining_distance",
-         "/follow_path/feedback/feedback/initial_distance")
+         "/follow_path/feedback/feedback/initial_distance", ylabel="distance [m]")
 
 # %% tags=["digest"]
 print(world.digest())

@@ -134,6 +134,7 @@ for row, (name, ts) in enumerate(ticks.items()):
     ax.vlines(ts, row - 0.35, row + 0.35)
 ax.set_yticks(range(len(ticks)), list(ticks))
 ax.set_xlabel("wall time [s]")
+ax.set_ylabel("loop")
 ax.set_title("ticks at real_time_factor 0.5")
 fig
 

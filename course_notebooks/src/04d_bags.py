@@ -80,7 +80,8 @@ print(first.topic, first.timestamp.to_sec(), first.message.pose.pose.position)
 # The odometry's x/y from the bag (rqt_plot reads a bag as it reads a live world):
 
 # %% tags=["plot"]
-rqt_plot(bag, "/odom/pose/pose/position/x:y", title="rqt_plot --bag drive.bag")
+rqt_plot(bag, "/odom/pose/pose/position/x:y", title="rqt_plot --bag drive.bag",
+         ylabel="position in odom [m]")
 
 # %% [markdown]
 # The same x/y as a path, against the ground truth the simulator kept (`sim.history()`). The

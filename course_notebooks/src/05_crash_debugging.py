@@ -70,10 +70,12 @@ print(f"hit the {crash.obstacle} at {crash.stamp_ns / 1e9:.2f} s, at {crash.spee
 # The forward acceleration `/imu/data/linear_acceleration/x` (rqt_plot reads it from the run's
 # trace): noise around 0 while cruising, then at impact a half-sine of 0.1 s, about
 # −(π/2)·v/0.1 ≈ −16 m/s² at 1 m/s, and a short ringing. Braking at the robot's limit would
-# show only −2 m/s².
+# show only −2 m/s². The odometry's speed is in m/s, another unit: it is drawn against the
+# y-axis on the right (dashed), where it drops to 0 at the impact.
 
 # %% tags=["plot"]
-rqt_plot(world, "/imu/data/linear_acceleration/x", "/odom/twist/twist/linear/x",
+rqt_plot(world, "/imu/data/linear_acceleration/x", ylabel="IMU a_x [m/s²]",
+         right=["/odom/twist/twist/linear/x"], right_ylabel="odometry speed [m/s]",
          title="the crash pulse: IMU a_x and odometry speed")
 
 # %% [markdown]

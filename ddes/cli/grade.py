@@ -49,7 +49,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--junit", metavar="FILE", help="write JUnit XML here")
     p.add_argument("--out", metavar="DIR",
                    help="write results.json, junit.xml and report.txt here (batch: one folder "
-                        "per submission and summary.csv)")
+                        "per submission and summary.csv; sweep: one folder per seed, "
+                        "summary.csv, sweep.txt and histogram.png)")
     p.add_argument("--seed", type=int, default=0, help="scenario seed (default 0)")
     p.add_argument("--public", action="store_true", help="public scenarios only")
     p.add_argument("--fail-under", type=float, metavar="PCT",

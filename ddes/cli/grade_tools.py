@@ -2,8 +2,9 @@
 
 * ``ddes grade replay EXERCISE SUBMISSION --scenario NAME [--seed N] [--trace FILE]
   [--bag FILE] [--picture FILE]``: one scenario again, exactly (same digest as in the grade);
-* ``ddes grade sweep EXERCISE SUBMISSION --seeds A:B [--figure FILE] [--fail-under PCT]``: the
-  score over seeds;
+* ``ddes grade sweep EXERCISE SUBMISSION --seeds A:B [--out DIR] [--figure FILE]
+  [--fail-under PCT]``: the score over seeds (``--out``: every seed's grade files, summary.csv,
+  the text and the histogram in DIR);
 * ``ddes grade sensitivity EXERCISE [--solutions DIR] [--seed N]``: the mutants' kill matrix;
 * ``ddes grade operators EXERCISE [--solutions DIR] [--sample N] [--seed S] [--jobs J]
   [--min-rate PCT]``: the operator sweep's kill rate (ddes/grading/operators.py);
@@ -35,7 +36,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--trace", metavar="FILE", help="replay: write the trace (JSON lines)")
     p.add_argument("--bag", metavar="FILE", help="replay: write a bag (.bag or .mcap)")
     p.add_argument("--picture", metavar="FILE",
-                   help="replay: write the simulator's top view (PNG)")
+                   help="replay: write a picture of what the criteria judged (PNG): the "
+                        "top view, the exercise's time panels, the topic rates")
     p.add_argument("--seeds", metavar="A:B", help="sweep: the seeds A, A+1, ..., B-1")
     p.add_argument("--figure", metavar="FILE", help="sweep: write a histogram of the scores (PNG)")
     p.add_argument("--solutions", metavar="DIR", default="solutions",
@@ -123,7 +125,7 @@ def _sweep(registry: Any, words: list[str], args: argparse.Namespace, limits: An
 
     if len(words) != 2 or not args.seeds:
         raise GradingError("usage: ddes grade sweep EXERCISE SUBMISSION --seeds A:B "
-                           "[--figure FILE] [--fail-under PCT]")
+                           "[--out DIR] [--figure FILE] [--fail-under PCT]")
     exercise = registry.get(words[0])
     result = sweep(exercise, words[1], _seeds(args.seeds), public=args.public, limits=limits,
                    key=hidden_key(args, words[1]),
@@ -132,6 +134,10 @@ def _sweep(registry: Any, words: list[str], args: argparse.Namespace, limits: An
     if args.figure:
         result.figure().savefig(args.figure, dpi=100)
         print(f"wrote histogram: {args.figure}")
+    if args.out:
+        written = result.write(args.out, fail_under=args.fail_under)
+        print(f"wrote {len(written)} files to {args.out}: summary.csv, sweep.txt, "
+              f"histogram.png and seed_N/ (results.json, junit.xml, report.txt) per seed")
     if result.errors:
         print(f"{len(result.errors)} seed(s) not graded: grader infrastructure error",
               file=sys.stderr)
@@ -188,7 +194,19 @@ def _operators(registry: Any, words: list[str], args: argparse.Namespace, limits
     return 0 if result.ok else 1
 
 
+def _no_out(tool: Callable[[Any, list[str], argparse.Namespace, Any], int], name: str,
+            instead: str) -> Callable[[Any, list[str], argparse.Namespace, Any], int]:
+    """``tool``, refusing ``--out`` (which it would otherwise ignore without a word)."""
+    def run(registry: Any, words: list[str], args: argparse.Namespace, limits: Any) -> int:
+        if getattr(args, "out", None):
+            raise GradingError(f"{name} writes no folder: leave out --out ({instead})")
+        return tool(registry, words, args, limits)
+    return run
+
+
 #: ``ddes grade WORD ...`` -> its function ``(registry, words after WORD, args, limits)``.
 TOOLS: dict[str, Callable[[Any, list[str], argparse.Namespace, Any], int]] = {
-    "replay": _replay, "sweep": _sweep, "sensitivity": _sensitivity,
-    "operators": _operators}
+    "replay": _no_out(_replay, "replay", "it writes --trace FILE, --bag FILE, --picture FILE"),
+    "sweep": _sweep,
+    "sensitivity": _no_out(_sensitivity, "sensitivity", "it prints the kill matrix"),
+    "operators": _no_out(_operators, "operators", "it prints the kill rate")}

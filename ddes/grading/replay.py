@@ -11,8 +11,11 @@ deterministic, so the trusted world's trace digest is the one the grade recorded
 * a bag (``.bag``, or ``.mcap`` by its name) of every message published in the trusted world —
   the grader's and the student's (through their proxies) — at its publish time, raw bytes with
   the grader's type and md5;
-* when the exercise runs the simulator, its top view at the end of the run
-  (:func:`ddes.sim.view.top_view`) as a PNG.
+* a picture of what the exercise's criteria judged, as a PNG
+  (:func:`ddes.grading.replay_picture.replay_picture`): the simulator's top view at the end of
+  the run when there is one, the exercise's own time panels (an action exercise's goal
+  timeline, the speed with the service calls, ...) and the rates of the topics its criteria
+  count.
 """
 
 from __future__ import annotations
@@ -46,6 +49,8 @@ class ReplayResult:
     problems: list[str] = field(default_factory=list)
     #: ``(what, path)`` of each file written.
     written: list[tuple[str, str]] = field(default_factory=list)
+    #: The picture drawn (``picture=``): a DisplayFigure, or None.
+    figure: Any = field(default=None, repr=False, compare=False)
 
     def to_text(self) -> str:
         s = self.scenario
@@ -117,16 +122,13 @@ def replay(exercise: Exercise, submission: str | Path, scenario: str, *, seed: i
         count = write_bag(world, bag)
         result.written.append((f"bag ({count} messages)", str(bag)))
     if picture is not None:
-        sims = simulators(world)
-        if not sims:
-            raise GradingError(f"exercise {exercise.id} runs no simulator: there is no top view "
-                               "to draw (leave out --picture)")
-        from ddes.sim.view import top_view
+        from ddes.grading.replay_picture import replay_picture
 
-        fig = top_view(sims[0], title=f"{exercise.id} — {chosen.name}")
+        fig = replay_picture(exercise, chosen, world, facts)
         Path(picture).parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(str(picture), dpi=100)
-        result.written.append(("top view", str(picture)))
+        result.figure = fig
+        result.written.append(("picture", str(picture)))
     return result
 
 

@@ -5,14 +5,17 @@ where the reference loses points is a flaw of the grader or of the solution, nev
 On a student's submission the distribution shows whether a controller is robust or lucky.
 :func:`sweep` grades each seed on the engine of ``ddes grade batch``
 (:func:`~ddes.grading.batch.grade_all`: one task per (seed, scenario), serially or on Dask; the
-same scenarios, digests and scores as a plain grade of that seed, ``execution_time`` 0; a seed
-whose task failed is listed as a grader infrastructure error); :class:`SweepResult` prints min/median/max, a text
-histogram and every seed below full marks with its replay command, and draws the histogram as a
-:class:`~ddes.display.figure.DisplayFigure`.
+same scenarios, digests and scores as a plain grade of that seed, ``execution_time`` the wall
+seconds of its tasks; a seed whose task failed is listed as a grader infrastructure error); :class:`SweepResult` prints min/median/max, a text
+histogram and every seed below full marks with its replay command, draws the histogram as a
+:class:`~ddes.display.figure.DisplayFigure`, and writes it all to a folder
+(:meth:`SweepResult.write`, ``ddes grade sweep --out DIR``).
 """
 
 from __future__ import annotations
 
+import csv
+import io
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -69,6 +72,8 @@ class SweepResult:
     grades: list[tuple[int, GradeReport]] = field(default_factory=list)
     #: ``(seed, text)`` of the seeds whose grade failed (grader infrastructure errors).
     errors: list[tuple[int, str]] = field(default_factory=list)
+    #: The exercise's criterion ids, in order (the columns of ``summary.csv``).
+    criteria: list[str] = field(default_factory=list)
 
     @property
     def scores(self) -> list[float]:
@@ -122,12 +127,57 @@ class SweepResult:
                edgecolor="black", gid="scores")
         ax.set_xticks(range(BINS + 1), [_label(i).replace(" ", "") for i in range(BINS + 1)],
                       rotation=45, fontsize=8)
-        ax.set_xlabel("score")
-        ax.set_ylabel("seeds")
+        ax.set_xlabel("score [% of the maximum]")
+        ax.set_ylabel("number of seeds")
         ax.set_title(f"{self.exercise}: {len(self.grades)} seeds, "
                      f"{len(self.failures())} below full marks")
         fig.tight_layout()
         return fig
+
+
+    def summary_csv(self) -> str:
+        """One row per seed, in seed order: ``seed, score, max_score, percent, <criterion
+        ids…>, problems`` (a seed not graded: empty scores and the error), no wall time."""
+        from ddes.grading.report import utf8_safe
+
+        buf = io.StringIO()
+        writer = csv.writer(buf, lineterminator="\n")
+        writer.writerow(["seed", "score", "max_score", "percent", *self.criteria, "problems"])
+        rows: list[tuple[int, list[str]]] = []
+        for seed, r in self.grades:
+            by_id = {c.id: c.points for c in r.criteria}
+            rows.append((seed, [str(seed), f"{r.score:g}", f"{r.max_score:g}", f"{r.percent:.1f}",
+                                *[f"{by_id[c]:g}" if c in by_id else "" for c in self.criteria],
+                                utf8_safe("; ".join(r.problems)[:500])]))
+        for seed, text in self.errors:
+            rows.append((seed, [str(seed), "", f"{self.max_score:g}", "",
+                                *[""] * len(self.criteria),
+                                utf8_safe(f"grader infrastructure error: {text}")]))
+        writer.writerows(row for _, row in sorted(rows, key=lambda sr: sr[0]))
+        return buf.getvalue()
+
+    def write(self, out: str | Path, fail_under: float | None = None) -> list[Path]:
+        """Write the sweep to the folder ``out`` (made if need be); returns the files written:
+        ``sweep.txt`` (what :meth:`to_text` prints), ``summary.csv`` (:meth:`summary_csv`),
+        ``histogram.png`` (:meth:`figure`) and, for each graded seed, ``seed_N/`` with its
+        ``results.json`` (its wall time as ``execution_time``), ``junit.xml`` and
+        ``report.txt``, as ``ddes grade --out`` writes them."""
+        from ddes.grading.report import write_atomic
+
+        folder = Path(out)
+        folder.mkdir(parents=True, exist_ok=True)
+        written = []
+        for seed, r in self.grades:
+            sub = folder / f"seed_{seed}"
+            r.write_results(sub / "results.json")
+            r.write_junit(sub / "junit.xml")
+            write_atomic(sub / "report.txt", r.to_text())
+            written += [sub / "results.json", sub / "junit.xml", sub / "report.txt"]
+        write_atomic(folder / "summary.csv", self.summary_csv())
+        write_atomic(folder / "sweep.txt", self.to_text(fail_under=fail_under))
+        self.figure().savefig(str(folder / "histogram.png"), dpi=100)
+        return [*written, folder / "summary.csv", folder / "sweep.txt",
+                folder / "histogram.png"]
 
 
 def sweep(exercise: Exercise, submission: str | Path, seeds: Sequence[int] | range, *,
@@ -140,7 +190,7 @@ def sweep(exercise: Exercise, submission: str | Path, seeds: Sequence[int] | ran
     as it finishes, ``bar`` draws the progress bar)."""
     seeds = list(seeds)
     result = SweepResult(exercise=exercise.id, submission=str(submission),
-                         max_score=exercise.max_points)
+                         max_score=exercise.max_points, criteria=[c.id for c in exercise.criteria])
     name = Path(submission).name or "submission"
     jobs = [Job(name, Path(submission), seed=seed, public=public, key=key) for seed in seeds]
 

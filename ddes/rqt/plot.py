@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import difflib
 import re
+from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 from ddes.errors import DdesValueError
@@ -128,29 +129,48 @@ def field_series(source: Any, name: str, *, time: str = "auto") -> Series:
 
 
 def rqt_plot(source: Any, *fields: str, time: str = "auto", ax: Any = None,
-             title: str | None = None) -> Any:
+             title: str | None = None, ylabel: str | None = None,
+             right: Sequence[str] = (), right_ylabel: str | None = None) -> Any:
     """Draw ``fields`` of ``source`` over time on one axes; returns the figure.
 
     ``rqt_plot(world, "/odom/twist/twist/linear/x", "/cmd_vel/linear/x")``; each field is
     one line, labelled with its name (``a:b`` gives two).  ``source`` is a world, a Bag or a
     bag file path.  A new figure is a :class:`ddes.display.figure.DisplayFigure` (a notebook
-    shows it); pass ``ax`` to draw into existing axes.
+    shows it); pass ``ax`` to draw into existing axes.  ``ylabel`` names the y-axis (with its
+    unit: ``"speed [m/s]"``; rqt_plot itself has none).  Fields of another unit go in
+    ``right``: they are drawn against a second y-axis on the right (``ax.twinx()``), named
+    ``right_ylabel``; one legend lists the curves of both.
     """
     from ddes.display.figure import new_figure
 
     if not fields:
         raise DdesValueError("rqt_plot: name at least one field, e.g. /odom/twist/twist/linear/x")
+    if isinstance(right, str):
+        right = (right,)
     names = [n for spec in fields for n in expand_fields(spec)]
+    others = [n for spec in right for n in expand_fields(spec)]
     curves = [field_series(source, n, time=time) for n in names]
+    twins = [field_series(source, n, time=time) for n in others]
     if ax is None:
         fig = new_figure(figsize=(8.0, 4.0))
         ax = fig.add_subplot(1, 1, 1)
     else:
         fig = ax.figure
-    for c in curves:
-        ax.plot(c.t, c.y, label=c.name, linewidth=1.3, gid=f"series:{c.name}")
+    handles = [ax.plot(c.t, c.y, label=c.name, linewidth=1.3, gid=f"series:{c.name}")[0]
+               for c in curves]
     ax.set_xlabel("time [s]")
+    if ylabel is not None:
+        ax.set_ylabel(ylabel)
     ax.grid(True, color="0.88")
-    ax.legend(loc="best", fontsize=9)
-    ax.set_title(title if title is not None else ", ".join(names), fontsize=11)
+    top = ax
+    if twins:
+        top = twin = ax.twinx()
+        colors = [f"C{i % 10}" for i in range(len(curves), len(curves) + len(twins))]
+        handles += [twin.plot(c.t, c.y, label=c.name, linewidth=1.3, color=color,
+                              linestyle="--", gid=f"series:{c.name}")[0]
+                    for c, color in zip(twins, colors, strict=True)]
+        if right_ylabel is not None:
+            twin.set_ylabel(right_ylabel)
+    top.legend(handles=handles, loc="best", fontsize=9)  # on the upper axes: never hidden
+    ax.set_title(title if title is not None else ", ".join(names + others), fontsize=11)
     return fig

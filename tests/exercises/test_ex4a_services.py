@@ -9,6 +9,8 @@ import shutil
 import time
 from pathlib import Path
 
+import pytest
+
 from ddes.grading import REGISTRY, grade
 from ddes.grading.exercises.ex4a_services import parse_script, scenarios
 
@@ -31,6 +33,8 @@ def test_reference_earns_everything_and_one_grading_is_timed() -> None:
     assert report.score == 100, [c.evidence for c in report.criteria]
 
 
+@pytest.mark.slow
+@pytest.mark.ci  # every run sweeps seeds 0-4 already (tests/exercises/test_sensitivity.py)
 def test_reference_has_no_false_failure_over_a_few_seeds() -> None:
     for seed in (1, 2, 3):
         report = grade(EX, SOLUTION, seed=seed)
@@ -84,8 +88,6 @@ def test_hidden_scenarios_come_from_the_seed() -> None:
 
 
 # -- 4a.1's class rule accepts every correct form (docs/grading.md, "Source checks") -------------
-
-import pytest  # noqa: E402
 
 from ddes.grading.exercise import Facts  # noqa: E402
 from ddes.grading.exercises.ex4a_services import _class_rule  # noqa: E402

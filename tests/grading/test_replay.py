@@ -100,8 +100,6 @@ def test_hidden_scenario_replay_with_the_secret_and_the_top_view(
     (["replay", "ex0_talker", "x"], "usage: ddes grade replay"),
     (["replay", "ex0_talker", str(SOLUTION), "--scenario", "nope"],
      "exercise ex0_talker has no scenario 'nope' for seed 0 (its scenarios: public)"),
-    (["replay", "ex0_talker", str(SOLUTION), "--scenario", "public", "--picture", "p.png"],
-     "exercise ex0_talker runs no simulator"),
 ])
 def test_replay_usage_errors_exit_2(words: list[str], text: str, tmp_path: Path,
                                     capsys: pytest.CaptureFixture[str],
@@ -109,4 +107,3 @@ def test_replay_usage_errors_exit_2(words: list[str], text: str, tmp_path: Path,
     monkeypatch.chdir(tmp_path)
     assert main(["grade", "--exercises", str(EXERCISE_FILE), *words]) == 2
     assert text in capsys.readouterr().err
-    assert not (tmp_path / "p.png").exists()

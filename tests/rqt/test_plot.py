@@ -100,3 +100,20 @@ def test_errors_name_the_fix() -> None:
         rqt_plot(world)
     with pytest.raises(DdesTypeError, match="a Bag or a bag file path"):
         field_series(42, "/x")
+
+
+def test_a_y_label_and_fields_of_another_unit_on_a_second_y_axis() -> None:
+    """Two units, two y-axes (twinx), each named with its unit; one legend for both."""
+    world, sent_v, sent_x = world_with_data()
+    fig = rqt_plot(world, "/cmd_vel/linear/x", ylabel="speed [m/s]", time="publish",
+                   right=["/pose/pose/position/x"], right_ylabel="x [m]")
+    left, right = fig.axes
+    assert left.get_ylabel() == "speed [m/s]" and right.get_ylabel() == "x [m]"
+    assert left.get_xlabel() == "time [s]" and right.get_shared_x_axes().joined(left, right)
+    assert [ln.get_gid() for ln in left.get_lines()] == ["series:/cmd_vel/linear/x"]
+    assert list(right.get_lines()[0].get_ydata()) == sent_x
+    assert right.get_lines()[0].get_color() != left.get_lines()[0].get_color()
+    legend = right.get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == ["/cmd_vel/linear/x",
+                                                          "/pose/pose/position/x"]
+    assert rqt_plot(world, "/cmd_vel/linear/x").axes[0].get_ylabel() == ""  # as rqt_plot
