@@ -34,7 +34,7 @@ def test_reference_earns_everything_and_one_grading_is_timed() -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.ci  # every run sweeps seeds 0-4 already (tests/exercises/test_sensitivity.py)
+@pytest.mark.ci  # CI sweeps seeds 0-4 in tests/exercises/test_sensitivity.py as well
 def test_reference_has_no_false_failure_over_a_few_seeds() -> None:
     for seed in (1, 2, 3):
         report = grade(EX, SOLUTION, seed=seed)
