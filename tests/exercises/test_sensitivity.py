@@ -10,10 +10,10 @@
   ``slow`` (deselected by default: run them with ``pytest -m slow``), which keeps CI under its
   time limit.
 
-A sensitivity grades the reference and every mutant (12 to 22 gradings, 1 to 4 minutes on two
-cores each): the default run checks exercise 4d's (the cheapest); the other seven are marked
-``slow`` and ``ci``, so they stay out of a student's ``pytest`` and CI runs them
-(``.ci/run``: ``pytest -m "slow and ci"``).
+A sensitivity grades the reference and every mutant (12 to 22 gradings, one to four minutes on
+two cores each), so these eight are marked ``slow`` and ``ci``: they stay out of a student's
+``pytest`` (tests/grading/test_mutants.py checks the sensitivity of the demo exercise there) and
+CI runs them (``.ci/run``: ``pytest -m "slow and ci"``).
 """
 
 from __future__ import annotations
@@ -48,13 +48,9 @@ def transcript(exercise: str) -> str:
     return m.group(1)
 
 
-#: The exercise whose sensitivity every test run checks; CI checks all of them.
-DEFAULT_SENSITIVITY = "ex4d_bags"
-
-
-@pytest.mark.parametrize("exercise", [
-    e if e == DEFAULT_SENSITIVITY else pytest.param(e, marks=[pytest.mark.slow, pytest.mark.ci])
-    for e in EXERCISES])
+@pytest.mark.slow
+@pytest.mark.ci
+@pytest.mark.parametrize("exercise", EXERCISES)
 def test_sensitivity_of_the_course_exercise(exercise: str,
                                             capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["grade", "sensitivity", exercise, "--solutions", str(SOLUTIONS)]) == 0

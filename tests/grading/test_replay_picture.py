@@ -165,8 +165,6 @@ COURSE = {
 }
 
 
-@pytest.mark.slow
-@pytest.mark.ci  # a replay of each course exercise (5 to 20 s each on two cores): CI runs them
 @pytest.mark.parametrize("exercise", sorted(COURSE))
 def test_each_course_exercise_replay_draws_what_its_criteria_judged(
         exercise: str, tmp_path: Path) -> None:
