@@ -7,14 +7,16 @@ dependencies, added as a subdirectory) and ddes's catkin configuration (``cmake/
 found through ``CMAKE_PREFIX_PATH``), then runs make.  Executables land in
 ``devel/lib/<pkg>/``, a package's message headers in ``devel/include/<pkg>/``, the headers of
 ddes's message packages in ``build/ddes_gencpp/include``, ddes's roscpp library
-(``cpp/``) is built once per build space; ``devel/setup.bash`` puts the workspace's ``src/``
+(``cpp/``) is built once per machine (below); ``devel/setup.bash`` puts the workspace's ``src/``
 on ``DDES_PACKAGE_PATH`` and ``ROS_PACKAGE_PATH``.  Output is catkin_make's: its
 ``Base path:`` ... ``Install space:`` lines, its ``#### Running command:`` banners, CMake's and
 make's own output, ``Invoking "make -j2 -l2" failed`` and exit code 1 on a failure.
 
 Bounds: a whole run has a wall-time limit (``--timeout``, default :data:`DEFAULT_TIMEOUT_S`):
 past it the build's processes are stopped; make runs at most as many jobs as the machine has
-CPUs (``-j`` asks for fewer, never more; ``MAKEFLAGS`` jobs are dropped).
+CPUs (``-j`` asks for fewer, never more; ``MAKEFLAGS`` jobs are dropped).  The wall clock
+(``time.monotonic``) is read only here, for that limit and the times ``catkin build`` prints: a
+build is a tool run outside any world, and nothing it times enters a trace.
 
 ``catkin build`` (catkin_tools' command) builds the same single build space, package by
 package, with catkin_tools' ``Starting >>>``/``Finished <<<`` lines and summary.

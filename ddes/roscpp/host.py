@@ -131,6 +131,8 @@ class ExternalNode:
         self._subs: dict[int, Any] = {}
         self._services: dict[int, Any] = {}
         self._timers: dict[int, Any] = {}
+        #: Persistent service clients (``serviceClient(name, true)``), by (service, type).
+        self._persistent: dict[tuple[str, str, bool], Any] = {}
         #: Connect callbacks' single-subscriber publishers, by (publisher id, caller id).
         self._peers: dict[tuple[int, str], Any] = {}
         self._next_id = 0
@@ -228,7 +230,10 @@ class ExternalNode:
             view = view[n:]
 
     def _fill(self, deadline: float) -> None:
-        """Read what the process has written (at least one byte), into the buffer."""
+        """Read what the process has written (at least one byte), into the buffer.
+
+        ``deadline`` is on the wall clock (``time.monotonic``): the watchdog's budget, which only
+        stops a process that never hands back; it decides nothing in the trace."""
         while True:
             try:
                 chunk = os.read(self._rfd, 1 << 16)  # non-blocking: what is there already
@@ -274,17 +279,18 @@ class ExternalNode:
             data = os.read(fd, 65536)
         except BlockingIOError:
             return
+        is_err = self._out_fds.get(fd, True)
         if not data:
             self._out_fds.pop(fd, None)
             rest = self._partial.pop(fd, b"")
             if rest:
-                self._emit(rest, fd)
+                self._emit(rest, is_err)
             return
         buf = self._partial.get(fd, b"") + data
         *lines, rest = buf.split(b"\n")
         self._partial[fd] = rest
         for line in lines:
-            self._emit(line, fd)
+            self._emit(line, is_err)
 
     def _drain_output(self, final: bool = False) -> None:
         for fd in list(self._out_fds):
@@ -296,21 +302,15 @@ class ExternalNode:
                 if not ready:
                     break
                 self._read_output(fd)
-            if final and fd in self._partial and self._partial[fd]:
-                self._emit(self._partial.pop(fd), fd)
+            if final and self._partial.get(fd):
+                self._emit(self._partial.pop(fd), self._out_fds.get(fd, True))
 
-    def _emit(self, raw: bytes, fd: int) -> None:
+    def _emit(self, raw: bytes, is_err: bool) -> None:
         text = raw.decode("utf-8", "replace")
-        is_err = self._out_fds.get(fd, fd == self._stderr_fd())
         if self.print_line is not None:
             self.print_line(text, is_err)
         else:
             (sys.stderr if is_err else sys.stdout).write(text + "\n")
-
-    def _stderr_fd(self) -> int:
-        proc = self._proc
-        return proc.stderr.fileno() if proc is not None and proc.stderr is not None \
-            and not proc.stderr.closed else -2
 
     # -- replies ----------------------------------------------------------------------------
     def _times(self) -> tuple[int, int]:
@@ -365,7 +365,7 @@ class ExternalNode:
             self.exit_code = proc.returncode
         node = self.node
         if self.verdict:
-            self._emit(f"[ddes] {self.verdict}".encode(), self._stderr_fd())
+            self._emit(f"[ddes] {self.verdict}".encode(), True)
         if node is not None and not node.is_shutdown():
             self.world.record("node.exit", node.name, code=self.exit_code)
             node.shutdown("process ended")
@@ -462,7 +462,7 @@ class ExternalNode:
             pub = self._pubs.get(pid)
             if pub is None:
                 raise ProtocolError(f"protocol error: PUBLISH on unknown publisher {pid}")
-            msg = pub.data_class.__new__(pub.data_class)._deserialize_from(data)
+            msg = _decode(pub.data_class, data, "PUBLISH")
             pub.publish(msg)
             return
         if kind == P.PUBLISH_ONE:
@@ -473,7 +473,7 @@ class ExternalNode:
                 raise ProtocolError(f"protocol error: PUBLISH_ONE on unknown publisher {pid}")
             peer = self._peers.get((pid, caller))
             if peer is not None:  # a subscriber gone by now gets nothing
-                peer(pub.data_class.__new__(pub.data_class)._deserialize_from(data))
+                peer(_decode(pub.data_class, data, "PUBLISH_ONE"))
             return
         if kind == P.LOG:
             level = r.u8("level")
@@ -566,11 +566,7 @@ class ExternalNode:
             r.end()
             table = self._pubs if kind == P.NUM_SUBSCRIBERS else self._subs
             entity = table.get(eid)
-            count = 0
-            if entity is not None:
-                count = (entity.get_num_connections() if hasattr(entity, "get_num_connections")
-                         else len(getattr(entity, "connections", ())))
-            return w.u32(count).payload()
+            return w.u32(0 if entity is None else entity.get_num_connections()).payload()
         if kind in (P.PARAM_GET, P.PARAM_SET, P.PARAM_HAS, P.PARAM_DELETE, P.PARAM_SEARCH):
             ns, key = r.string("ns"), r.string("key")
             params = self.world.master.params
@@ -706,13 +702,12 @@ class ExternalNode:
         srv = self._service_class(type_, md5)
         resolved = self._resolve(ns, service, True)
         key = (resolved, type_, persistent)
-        proxies = self.__dict__.setdefault("_proxies", {})
-        proxy = proxies.get(key) if persistent else None
+        proxy = self._persistent.get(key) if persistent else None
         if proxy is None:
             proxy = ServiceProxy(node, resolved, srv, persistent=persistent)
             if persistent:
-                proxies[key] = proxy
-        request = srv._request_class.__new__(srv._request_class)._deserialize_from(data)
+                self._persistent[key] = proxy
+        request = _decode(srv._request_class, data, "CALL")
         return proxy.call(request)
 
     # -- callbacks: the world hands the process a callback ---------------------------------------
@@ -962,6 +957,15 @@ def _drive(gen: Generator[simpy.Event, Any, Any], event: simpy.Event
         return stop.value
 
 
+def _decode(cls: Any, data: bytes, what: str) -> Any:
+    """A message of ``cls`` from the process's bytes; bytes that are none end the process as a
+    protocol error (docs/external-nodes.md: anything malformed is its death)."""
+    try:
+        return cls.__new__(cls)._deserialize_from(data)
+    except DdesError as exc:
+        raise ProtocolError(f"protocol error: {what} of {cls._type}: {exc}") from None
+
+
 def _fired(env: simpy.Environment, value: object) -> simpy.Event:
     ev = env.event()
     ev.succeed(value)
@@ -979,7 +983,10 @@ def _fill(response: Any, result: tuple[int, bytes] | None) -> bool:
     ok, data = result
     if ok != 1:  # 0: the handler failed; 2: it threw (the process logged it)
         return False
-    response._deserialize_from(data)
+    try:
+        response._deserialize_from(data)
+    except DdesError:  # bytes that are no response of this service: the call fails
+        return False
     return True
 
 

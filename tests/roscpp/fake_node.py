@@ -158,6 +158,16 @@ def thrower() -> None:
         sys.exit(3)
 
 
+def garbage() -> None:
+    """Publishes bytes that are no std_msgs/String (a length past the end)."""
+    hello("garbage")
+    r = request(P.ADVERTISE, new_req().string("/").string("chatter").string("std_msgs/String")
+                .string("992ce8a1687cec8c8bd883ec73ca41d1").string("string data\n").u32(10)
+                .u8(0).u8(0))
+    send(P.PUBLISH, P.Writer().u32(r.u32()).blob(b"\xff\xff\xff\x7f").payload())
+    request(P.SPIN, new_req())
+
+
 def spinner() -> None:
     """A node that never hands back (the watchdog's case)."""
     hello("spinner")
@@ -170,7 +180,7 @@ def crash() -> None:
     os.kill(os.getpid(), 11)
 
 
-SCENARIOS = {"thrower": thrower, "talker": talker, "listener": listener, "server": server, "client": client,
+SCENARIOS = {"garbage": garbage, "thrower": thrower, "talker": talker, "listener": listener, "server": server, "client": client,
              "spinner": spinner, "crash": crash}
 
 if __name__ == "__main__":

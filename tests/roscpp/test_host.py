@@ -119,3 +119,14 @@ def test_an_exception_in_a_callback_leaves_spin_as_in_roscpp() -> None:
     world.run(until=0.2)
     assert "spin raised: interrupted by an exception in a callback" in out
     assert host.exit_code == 3
+
+
+def test_bytes_that_are_no_message_end_the_process_not_the_world() -> None:
+    world = ddes.World()
+    world.log_output = False
+    out: list[str] = []
+    host = _node(world, "garbage", out)
+    other = world.create_node("other")
+    world.run(until=1.0)
+    assert host.verdict.startswith("protocol error: PUBLISH of std_msgs/String: cannot deserialize")
+    assert host.node is not None and host.node.is_shutdown() and not other.is_shutdown()

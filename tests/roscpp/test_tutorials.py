@@ -4,6 +4,7 @@ with real catkin_make print the same lines (timestamps aside) on a real roscore.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -116,7 +117,7 @@ def test_rosrun_finds_the_built_nodes_in_the_workspace(devel: Path) -> None:
                       "rosnode list\n")
     proc = subprocess.run([sys.executable, "-m", "ddes", "console", "--script", str(script)],
                           cwd=devel.parent, capture_output=True, text=True, timeout=300,
-                          env={k: v for k, v in __import__("os").environ.items()
+                          env={k: v for k, v in os.environ.items()
                                if k != "DDES_PACKAGE_PATH"})
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "[ INFO] [0.000400000]: Sum: 7" in proc.stdout
