@@ -193,10 +193,19 @@ class Run:
         return f"<Run code={self.code} {self.seconds:.1f}s>\n{self.text[-6000:]}"
 
 
-def _later(path: Path, than: Path) -> None:
-    """Make ``path`` newer than ``than`` (no sleeping: set the time stamp)."""
-    t = than.stat().st_mtime + 2
-    os.utime(path, (t, t))
+def _later(path: Path, ws: Path) -> None:
+    """Make ``path`` newer than everything else in ``ws`` without sleeping.
+
+    Every file of the workspace is moved ten seconds into the past and ``path`` stamped now, so
+    whatever the next build writes is newer than ``path`` (a stamp in the future would make the
+    build's own outputs look older than their source and rebuild them again on the run after)."""
+    for root, _dirs, files in os.walk(ws):
+        for name in files:
+            f = Path(root) / name
+            if not f.is_symlink():
+                st = f.stat()
+                os.utime(f, ns=(st.st_atime_ns - 10**10, st.st_mtime_ns - 10**10))
+    os.utime(path)
 
 
 # -- pure Python: packages, order, arguments -------------------------------------------------------
@@ -323,13 +332,13 @@ def test_a_package_with_its_own_messages_builds_then_rebuilds_incrementally(
     print(f"clean build {clean.seconds:.1f} s, nothing changed {again.seconds:.1f} s")
     assert again.seconds < 30
 
-    _later(ws / "src" / "chatter" / "src" / "use_msgs.cpp", exe)
+    _later(ws / "src" / "chatter" / "src" / "use_msgs.cpp", ws)
     touched = Run(ws)
     assert touched.code == 0, touched
     compiled = [line for line in touched.out if "Building CXX object" in line]
     assert len(compiled) == 1 and "use_msgs.cpp.o" in compiled[0]
     # an unchanged definition regenerates nothing a compiler sees
-    _later(ws / "src" / "chatter" / "msg" / "Num.msg", exe)
+    _later(ws / "src" / "chatter" / "msg" / "Num.msg", ws)
     regen = Run(ws)
     assert regen.code == 0 and not any("Building CXX" in line for line in regen.out), regen
 
