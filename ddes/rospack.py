@@ -240,6 +240,29 @@ class RosPack:
                 "RosPack(paths), World(package_path=[...]))"
             ) from None
 
+    def python_folders(self) -> tuple[Path, ...]:
+        """The Python folders a built workspace puts on a node's path (catkin_python_setup).
+
+        A package on the path (the bundled ones aside) whose ``CMakeLists.txt`` calls
+        ``catkin_python_setup()`` and which has a ``setup.py`` gets its modules installed into
+        the devel space's ``dist-packages`` by ``catkin_make``, so any node imports them by
+        name.  ddes builds nothing: it returns the package's folder of Python packages in the
+        source tree instead, ``package_dir``'s root as the ``setup.py`` names it (read with
+        :func:`_setup_package_root`, never run), ``src`` by default.  In package order.
+        """
+        if self._index is None:
+            self._index = self._scan()
+        folders = []
+        for name in sorted(self._index):
+            root = self._index[name]
+            if root.is_relative_to(BUNDLED_PATH):
+                continue
+            if _calls_catkin_python_setup(root / "CMakeLists.txt") and (root / "setup.py").is_file():
+                folder = root / _setup_package_root(root / "setup.py")
+                if folder.is_dir() and folder not in folders:
+                    folders.append(folder)
+        return tuple(folders)
+
     def __contains__(self, name: str) -> bool:
         if self._index is None:
             self._index = self._scan()
@@ -333,3 +356,41 @@ def _top_level_texts(manifest: Path, name: str) -> list[tuple[str, str]]:
             f"error parsing {where}: {expat.ErrorString(exc.code)} (line {exc.lineno}, column "
             f"{exc.offset}); fix the XML", f"error parsing {where}") from None
     return children
+
+
+_MAX_BUILD_FILE_BYTES = 1 << 20
+
+
+def _calls_catkin_python_setup(cmakelists: Path) -> bool:
+    """Whether a ``CMakeLists.txt`` calls ``catkin_python_setup()`` outside a comment."""
+    try:
+        if cmakelists.stat().st_size > _MAX_BUILD_FILE_BYTES:
+            return False
+        text = cmakelists.read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return False
+    return any("catkin_python_setup(" in line.split("#", 1)[0].replace(" ", "").lower()
+               for line in text.splitlines())
+
+
+def _setup_package_root(setup_py: Path) -> str:
+    """The folder of ``package_dir={'': ROOT}`` in a ``setup.py`` (``src`` when it is not a
+    literal there): the file is parsed, never executed."""
+    import ast
+
+    try:
+        if setup_py.stat().st_size > _MAX_BUILD_FILE_BYTES:
+            return "src"
+        tree = ast.parse(setup_py.read_text(encoding="utf-8", errors="replace"))
+    except (OSError, SyntaxError, ValueError, RecursionError, MemoryError):
+        return "src"
+    for node in ast.walk(tree):
+        if isinstance(node, ast.keyword) and node.arg == "package_dir" \
+                and isinstance(node.value, ast.Dict):
+            for key, value in zip(node.value.keys, node.value.values, strict=True):
+                if isinstance(key, ast.Constant) and key.value == "" \
+                        and isinstance(value, ast.Constant) and isinstance(value.value, str) \
+                        and value.value and not Path(value.value).is_absolute() \
+                        and ".." not in Path(value.value).parts:
+                    return value.value
+    return "src"

@@ -24,7 +24,8 @@
 
 Everything else imports as usual, and nothing is installed in ``sys.modules``
 or in the real ``builtins``: the user's other code (and other scripts) see
-their own imports.  A module in the script's own folder (its ``sys.path[0]``)
+their own imports.  A module in the script's own folder (its ``sys.path[0]``), or in a
+workspace package that ``catkin_python_setup()`` installs (:meth:`ddes.rospack.RosPack.python_folders`),
 imports as the script's code, with these imports (:mod:`ddes.compat.scriptdir`); other modules
 the script imports keep their own imports.
 """
@@ -229,7 +230,10 @@ def script_builtins(world: World, context: ScriptContext) -> dict[str, Any]:
     real_import = builtins.__import__
     from ddes.compat.scriptdir import LocalModules
 
-    local = LocalModules([str(context.path.resolve().parent), *sys.path])
+    # the script's folder, then the workspace's catkin Python packages (the devel space's
+    # dist-packages on ROS), then the process's path
+    local = LocalModules([str(context.path.resolve().parent),
+                          *(str(p) for p in world.rospack.python_folders()), *sys.path])
     script_sys = _ScriptSys(context.argv, local.path)
     numpy_view: list[Any] = []
     from ddes.compat.threads import module

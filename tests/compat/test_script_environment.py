@@ -106,3 +106,62 @@ def test_a_scripts_folder_and_its_path_hold_its_modules(tmp_path: Path) -> None:
     import sys
 
     assert str(tmp_path / "one" / "lib") not in sys.path  # the script's path is its own
+
+
+def _python_package(root: Path, name: str, cmake: str, setup_dir: str = "src") -> None:
+    (root / "scripts").mkdir(parents=True)
+    (root / "package.xml").write_text(f"<package format='2'><name>{name}</name>"
+                                      "<version>0.0.0</version><description>d</description>"
+                                      "<maintainer email='a@b.c'>a</maintainer>"
+                                      "<license>BSD</license></package>\n")
+    (root / "CMakeLists.txt").write_text(f"cmake_minimum_required(VERSION 3.0.2)\n"
+                                         f"project({name})\nfind_package(catkin REQUIRED)\n"
+                                         f"{cmake}\ncatkin_package()\n")
+    (root / "setup.py").write_text(textwrap.dedent(f"""
+        from distutils.core import setup
+        from catkin_pkg.python_setup import generate_distutils_setup
+
+        setup(**generate_distutils_setup(packages=[{name!r}], package_dir={{'': {setup_dir!r}}}))
+    """))
+    module = root / setup_dir / name
+    module.mkdir(parents=True)
+    (module / "__init__.py").write_text("")
+    (module / "controller.py").write_text(textwrap.dedent("""
+        import rospy
+        from std_msgs.msg import String
+
+
+        class Controller:
+            def __init__(self):
+                self.pub = rospy.Publisher("out", String, queue_size=1)
+                self.where = rospy.get_name()
+    """))
+
+
+def test_a_catkin_python_package_imports_by_name_with_ddes_rospy(tmp_path: Path) -> None:
+    """catkin_python_setup() puts a package's src/ modules on every node's path (devel's
+    dist-packages): a class there that imports rospy gets ddes's rospy, with no sys.path line."""
+    src = tmp_path / "ws" / "src"
+    _python_package(src / "pkg_a", "pkg_a", "catkin_python_setup()")
+    _python_package(src / "pkg_b", "pkg_b", "catkin_python_setup()", setup_dir="python")
+    _python_package(src / "pkg_c", "pkg_c", "# catkin_python_setup()")  # not installed
+    script = src / "pkg_a" / "scripts" / "node.py"
+    script.write_text(textwrap.dedent("""
+        import rospy
+        from pkg_a.controller import Controller
+        import pkg_b.controller as other
+
+        rospy.init_node("user")
+        c = Controller()
+        print(c.where, type(c.pub).__module__.startswith("ddes"), other.Controller().where)
+        try:
+            import pkg_c.controller
+        except ImportError as e:
+            print("ImportError", e.name)
+    """))
+    world = ddes.World(package_path=[src])
+    printed: list[str] = []
+    run_script(world, script, [], print_line=lambda text, _err: printed.append(text))
+    world.run(until=1.0)
+    assert printed == ["/user True /user", "ImportError pkg_c"]
+    assert world.rospack.python_folders() == (src / "pkg_a" / "src", src / "pkg_b" / "python")
