@@ -93,3 +93,36 @@ def test_a_statements_console_session_runs_against_the_reference(doc: Path, bloc
     if doc.parent.name == "ex4b_actions":
         assert "no result after 3.0 s: cancelling" in text
         assert "finished: state 2, success False" in text  # PREEMPTED
+
+
+GRADES = [(doc, cmd) for doc, cmd in CASES
+          if doc.parent.parent.name == "exercises" and cmd.startswith("ddes grade ")
+          and " . " in f"{cmd} "]
+
+
+def test_every_statement_prints_its_grade_command() -> None:
+    graded = {doc.parent.name for doc, _ in GRADES}
+    assert graded == {p.name for p in (ROOT / "exercises").iterdir() if (p / "README.md").is_file()}
+
+
+@pytest.mark.parametrize(("doc", "command"), GRADES, ids=[c for _, c in GRADES])
+def test_a_statements_grade_command_runs_as_written_in_the_finished_folder(
+        doc: Path, command: str, tmp_path: Path) -> None:
+    """``ddes grade EX . …`` typed in the exercise's folder once the student has finished it (a
+    copy of the reference solution): it grades, or replays and draws, and exits 0."""
+    import shutil
+    import subprocess
+    import sys
+
+    folder = tmp_path / doc.parent.name
+    shutil.copytree(ROOT / "solutions" / doc.parent.name, folder,
+                    ignore=shutil.ignore_patterns("mutants"))
+    done = subprocess.run([sys.executable, "-m", "ddes", *shlex.split(command)[1:]], cwd=folder,
+                          capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert "Traceback" not in done.stderr
+    if " replay " in command:
+        picture = shlex.split(command)[shlex.split(command).index("--picture") + 1]
+        assert (folder / picture).stat().st_size > 0
+    else:
+        assert "total: " in done.stdout and "(100.0 %" in done.stdout, done.stdout[-2000:]
