@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import json
 import re
 from pathlib import Path
 
@@ -100,3 +101,46 @@ def test_readme_student_loop_runs_as_written(tmp_path: Path) -> None:
     assert "total: " in done.stdout and "public scenarios only" in done.stdout
     assert "replay: ddes grade replay ex3_pillar . --scenario public --seed 0" in done.stdout
     assert (home / "ex3" / "fail.png").stat().st_size > 0
+
+
+@pytest.mark.slow
+@pytest.mark.ci
+def test_readme_instructor_loop_runs_as_written(tmp_path: Path) -> None:
+    """The instructor's block, in a folder holding ``submissions/`` (two copies of the reference)
+    and ``solutions/`` as the checkout's, SUBMISSION one of them: every line exits 0, the
+    operator sweep with the verdict its comment names (its sample of exercise 3 holds the one
+    documented survivor, docs/grading.md)."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    text = README.read_text(encoding="utf-8")
+    block = next(b for b in re.findall(r"```sh\n(.*?)```", text, flags=re.S)
+                 if "ddes grade batch" in b)
+    root = README.parent
+    work = tmp_path / "work"
+    for name in ("a", "b"):
+        shutil.copytree(root / "solutions" / "ex3_pillar", work / "submissions" / name,
+                        ignore=shutil.ignore_patterns("mutants"))
+    shutil.copytree(root / "solutions", work / "solutions")
+    shutil.copytree(root / "exercises", work / "exercises")
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    (bin_dir / "ddes").write_text(f"#!/bin/sh\nexec {sys.executable} -m ddes \"$@\"\n")
+    (bin_dir / "ddes").chmod(0o755)
+    env = {**os.environ, "PYTHONPATH": str(root), "PATH": f"{bin_dir}:{os.environ['PATH']}"}
+    for line in block.splitlines():
+        command = line.split("  #")[0].replace("SUBMISSION", "submissions/a").strip()
+        if "--workers" in command:
+            pytest.importorskip("distributed")
+        done = subprocess.run(["bash", "-e", "-c", command], cwd=work, capture_output=True,
+                              text=True, timeout=900, check=False, env=env)
+        if " operators " in command:  # its verdict: exit 1 when the sample's kill rate < 95 %
+            assert "(exit 1 under 95 %)" in line
+            rate = float(re.findall(r"kill rate ([0-9.]+) %", done.stdout)[-1])
+            assert done.returncode == (0 if rate >= 95 else 1), done.stdout[-2000:]
+            continue
+        assert done.returncode == 0, (command, done.stdout[-2000:], done.stderr[-2000:])
+    assert json.loads((work / "results.json").read_text())["score"] > 0
+    assert (work / "graded" / "summary.csv").read_text().count("\n") >= 3
