@@ -5,7 +5,9 @@
   ``def scenario(world): ...`` (it creates nodes, links, processes; the
   world is then run), or rospy scripts (files importing rospy) run as nodes of one world
   (``ddes run talker.py listener.py --until 5``; the words after a script are
-  its arguments).  Log lines print as ROS prints them, with simulated
+  its arguments), or compiled roscpp nodes built with ``ddes catkin_make`` (``ddes run
+  devel/lib/roscpp_tutorials/talker devel/lib/roscpp_tutorials/listener --until 1``), in
+  lockstep with the world, mixed with scripts as any of them.  Log lines print as ROS prints them, with simulated
   timestamps; at the end the simulated time, the number of trace events
   and the trace digest (same scenario + same seed = same digest).
 * ``ddes roslaunch PKG FILE.launch | PATH [--until T] [--seed N]
@@ -138,6 +140,8 @@ def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
     arguments (``add_two_ints_client.py 3 4``, ``talker.py chatter:=/talk``).
     """
     from ddes.compat.scripts import run_script
+    from ddes.roscpp.executables import is_native, start_executable
+    from ddes.roscpp.host import close_all
     from ddes.rospack import command_package_path
     from ddes.world import World as FacadeWorld
 
@@ -147,15 +151,26 @@ def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
             if not Path(word).is_file():
                 raise ROSConsoleError(f"script not found: {word}")
             commands.append((Path(word), []))
+        elif Path(word).is_file() and is_native(word):  # a compiled roscpp node (devel/lib/...)
+            commands.append((Path(word), []))
         elif commands:
             commands[-1][1].append(word)
         else:
-            raise ROSConsoleError(f"{word!r} comes before any script: ddes run a.py [args] b.py")
+            raise ROSConsoleError(f"{word!r} comes before any script: ddes run a.py [args] b.py "
+                                  "(or a compiled node: ddes run devel/lib/PKG/NODE [args])")
     world = FacadeWorld(seed=seed, package_path=command_package_path(os.environ, os.getcwd()))
     world.log_output = lambda line, level: out(line)
-    for path, args in commands:
-        run_script(world, path, args, print_line=lambda text, _stderr: out(text))
-    world.run(until=until)
+    try:
+        for path, args in commands:
+            if path.suffix == ".py":
+                run_script(world, path, args, print_line=lambda text, _stderr: out(text))
+            else:  # in lockstep with the world (ddes.roscpp.host), as rosrun starts it
+                start_executable(world, path.resolve(), args, name=None, namespace="/",
+                                 remappings=None, cwd=None,
+                                 print_line=lambda text, _stderr: out(text))
+        world.run(until=until)
+    finally:
+        close_all(world)
     return world
 
 
@@ -181,7 +196,9 @@ def _main_run(args: argparse.Namespace) -> int:
     if scenario.endswith((".launch", ".xml")):
         return _guard(lambda: _summary(run_launch([scenario, *words], until=until, seed=seed),
                                        _print_line))
-    if is_rospy_script(scenario):
+    from ddes.roscpp.executables import is_native
+
+    if is_rospy_script(scenario) or (Path(scenario).is_file() and is_native(scenario)):
         return _guard(lambda: _summary(run_scripts([scenario, *words], until=until, seed=seed),
                                        _print_line))
     if words:

@@ -124,6 +124,27 @@ def test_rosrun_finds_the_built_nodes_in_the_workspace(devel: Path) -> None:
     assert "/add_two_ints_server" in proc.stdout.split("$ rosnode list", 1)[1]
 
 
+def test_ddes_run_runs_compiled_nodes_with_scripts_in_one_world(devel: Path) -> None:
+    """``ddes run EXE [args] EXE ...``: compiled nodes (and scripts) in one world, the same
+    lines and digest on every run."""
+    listener = UPSTREAM / "ros_tutorials" / "rospy_tutorials" / "001_talker_listener" / "listener.py"
+    cmd = [sys.executable, "-m", "ddes", "run", _exe(devel, "talker"), _exe(devel, "listener"),
+           *([str(listener)] if listener.is_file() else []), "--until", "0.25"]
+    runs = [subprocess.run(cmd, cwd=devel.parent, capture_output=True, text=True, timeout=300)
+            for _ in range(2)]
+    for proc in runs:
+        assert proc.returncode == 0, proc.stdout + proc.stderr
+    out = runs[0].stdout.splitlines()
+    assert "[ INFO] [0.100000000]: hello world 1" in out
+    assert "[ INFO] [0.100000000]: I heard: [hello world 1]" in out
+    if listener.is_file():
+        assert any(line.endswith("I heard hello world 1") for line in out), out
+    assert out[-1].startswith("trace digest: ") and runs[0].stdout == runs[1].stdout
+    bad = subprocess.run([sys.executable, "-m", "ddes", "run", "nope", _exe(devel, "talker")],
+                         capture_output=True, text=True, timeout=60)
+    assert bad.returncode != 0 and "Traceback" not in bad.stderr
+
+
 def _shape(line: str) -> str:
     return re.sub(r"\x1b\[[0-9;]*m", "", re.sub(r"\[\d+\.\d+\]", "[T]", line)).strip()
 
