@@ -167,6 +167,7 @@ class RosPack:
             entries.append(BUNDLED_PATH)
         self.paths: tuple[Path, ...] = tuple(entries)
         self._index: dict[str, Path] | None = None
+        self._python: tuple[Path, ...] | None = None
 
     @classmethod
     def from_environment(cls, environ: Mapping[str, str] = os.environ, *,
@@ -203,6 +204,7 @@ class RosPack:
     def refresh(self) -> None:
         """Forget the cached index (after adding packages on disk)."""
         self._index = None
+        self._python = None
 
     def depends1(self, name: str) -> list[str]:
         """The direct dependencies of package ``name`` (``rospack depends1``), in rospack's order.
@@ -248,8 +250,11 @@ class RosPack:
         the devel space's ``dist-packages`` by ``catkin_make``, so any node imports them by
         name.  ddes builds nothing: it returns the package's folder of Python packages in the
         source tree instead, ``package_dir``'s root as the ``setup.py`` names it (read with
-        :func:`_setup_package_root`, never run), ``src`` by default.  In package order.
+        :func:`_setup_package_root`, never run), ``src`` by default.  In package order; read
+        once, until :meth:`refresh`.
         """
+        if self._python is not None:
+            return self._python
         if self._index is None:
             self._index = self._scan()
         folders = []
@@ -261,7 +266,8 @@ class RosPack:
                 folder = root / _setup_package_root(root / "setup.py")
                 if folder.is_dir() and folder not in folders:
                     folders.append(folder)
-        return tuple(folders)
+        self._python = tuple(folders)
+        return self._python
 
     def __contains__(self, name: str) -> bool:
         if self._index is None:
