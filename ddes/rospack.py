@@ -364,18 +364,17 @@ def _top_level_texts(manifest: Path, name: str) -> list[tuple[str, str]]:
     return children
 
 
-_MAX_BUILD_FILE_BYTES = 1 << 20
-
-
 def _calls_catkin_python_setup(cmakelists: Path) -> bool:
-    """Whether a ``CMakeLists.txt`` calls ``catkin_python_setup()`` outside a comment."""
+    """Whether a ``CMakeLists.txt`` calls ``catkin_python_setup()`` outside a comment (CMake's
+    command names ignore case and take blanks before the parenthesis).  A file over
+    :data:`MAX_MANIFEST_BYTES` is not read: no package's build file is that large."""
     try:
-        if cmakelists.stat().st_size > _MAX_BUILD_FILE_BYTES:
+        if cmakelists.stat().st_size > MAX_MANIFEST_BYTES:
             return False
         text = cmakelists.read_text(encoding="utf-8", errors="replace")
     except OSError:
         return False
-    return any("catkin_python_setup(" in line.split("#", 1)[0].replace(" ", "").lower()
+    return any("catkin_python_setup(" in "".join(line.split("#", 1)[0].split()).lower()
                for line in text.splitlines())
 
 
@@ -385,7 +384,7 @@ def _setup_package_root(setup_py: Path) -> str:
     import ast
 
     try:
-        if setup_py.stat().st_size > _MAX_BUILD_FILE_BYTES:
+        if setup_py.stat().st_size > MAX_MANIFEST_BYTES:
             return "src"
         tree = ast.parse(setup_py.read_text(encoding="utf-8", errors="replace"))
     except (OSError, SyntaxError, ValueError, RecursionError, MemoryError):

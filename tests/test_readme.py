@@ -52,20 +52,26 @@ def test_readme_has_a_transcript() -> None:
     assert TRANSCRIPTS
 
 
+def _ddes_command(bin_dir: Path) -> Path:
+    """``bin_dir/ddes``: the ddes of the Python running the tests, as an installed command."""
+    import sys
+
+    bin_dir.mkdir(parents=True)
+    (bin_dir / "ddes").write_text(f"#!/bin/sh\nexec {sys.executable} -m ddes \"$@\"\n")
+    (bin_dir / "ddes").chmod(0o755)
+    return bin_dir
+
+
 def test_readme_console_commands_run_as_written(tmp_path: Path) -> None:
     """The README's console block, run by a shell in the checkout (``.venv/bin/ddes`` being the
     ddes of the Python running the tests)."""
     import os
     import subprocess
-    import sys
 
     text = README.read_text(encoding="utf-8")
     block = next(b for b in re.findall(r"```sh\n(.*?)```", text, flags=re.S)
                  if "ddes console" in b and "printf" in b)
-    bin_dir = tmp_path / ".venv" / "bin"
-    bin_dir.mkdir(parents=True)
-    (bin_dir / "ddes").write_text(f"#!/bin/sh\nexec {sys.executable} -m ddes \"$@\"\n")
-    (bin_dir / "ddes").chmod(0o755)
+    bin_dir = _ddes_command(tmp_path / ".venv" / "bin")
     root = README.parent
     lines = [line.replace(".venv/bin/ddes", str(bin_dir / "ddes")) for line in block.splitlines()]
     done = subprocess.run(["bash", "-e", "-c", "\n".join(lines)], cwd=root, capture_output=True,
@@ -81,15 +87,11 @@ def test_readme_student_loop_runs_as_written(tmp_path: Path) -> None:
     little, and says why), replay and draw the public scenario."""
     import os
     import subprocess
-    import sys
 
     text = README.read_text(encoding="utf-8")
     block = next(b for b in re.findall(r"```sh\n(.*?)```", text, flags=re.S)
                  if b.startswith("cp -r exercises/"))
-    bin_dir = tmp_path / "bin"
-    bin_dir.mkdir()
-    (bin_dir / "ddes").write_text(f"#!/bin/sh\nexec {sys.executable} -m ddes \"$@\"\n")
-    (bin_dir / "ddes").chmod(0o755)
+    bin_dir = _ddes_command(tmp_path / "bin")
     home = tmp_path / "home"
     home.mkdir()
     root = README.parent
@@ -113,7 +115,6 @@ def test_readme_instructor_loop_runs_as_written(tmp_path: Path) -> None:
     import os
     import shutil
     import subprocess
-    import sys
 
     text = README.read_text(encoding="utf-8")
     block = next(b for b in re.findall(r"```sh\n(.*?)```", text, flags=re.S)
@@ -125,10 +126,7 @@ def test_readme_instructor_loop_runs_as_written(tmp_path: Path) -> None:
                         ignore=shutil.ignore_patterns("mutants"))
     shutil.copytree(root / "solutions", work / "solutions")
     shutil.copytree(root / "exercises", work / "exercises")
-    bin_dir = tmp_path / "bin"
-    bin_dir.mkdir()
-    (bin_dir / "ddes").write_text(f"#!/bin/sh\nexec {sys.executable} -m ddes \"$@\"\n")
-    (bin_dir / "ddes").chmod(0o755)
+    bin_dir = _ddes_command(tmp_path / "bin")
     env = {**os.environ, "PYTHONPATH": str(root), "PATH": f"{bin_dir}:{os.environ['PATH']}"}
     for line in block.splitlines():
         command = line.split("  #")[0].replace("SUBMISSION", "submissions/a").strip()

@@ -7,8 +7,8 @@
   (``ddes run talker.py listener.py --until 5``; the words after a script are
   its arguments), or compiled roscpp nodes built with ``ddes catkin_make`` (``ddes run
   devel/lib/roscpp_tutorials/talker devel/lib/roscpp_tutorials/listener --until 1``), in
-  lockstep with the world, mixed with scripts as any of them.  Log lines print as ROS prints them, with simulated
-  timestamps; at the end the simulated time, the number of trace events
+  lockstep with the world, mixed with scripts.  Log lines print as ROS prints them, with
+  simulated timestamps; at the end the simulated time, the number of trace events
   and the trace digest (same scenario + same seed = same digest).
 * ``ddes roslaunch PKG FILE.launch | PATH [--until T] [--seed N]
   [arg:=value ...]``: what ``roslaunch`` prints (it starts a master and
@@ -132,6 +132,13 @@ def is_rospy_script(path: str | Path) -> bool:
                                                      re.M) is not None
 
 
+def _is_program(word: str) -> bool:
+    """A compiled program (a regular ELF file: a FIFO is never opened)."""
+    from ddes.roscpp.executables import is_native
+
+    return Path(word).is_file() and is_native(word)
+
+
 def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
                 out: Callable[[str], None] = _print_line) -> World:
     """Run rospy scripts as nodes of one world (``talker.py listener.py``) for ``until`` seconds.
@@ -140,7 +147,7 @@ def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
     arguments (``add_two_ints_client.py 3 4``, ``talker.py chatter:=/talk``).
     """
     from ddes.compat.scripts import run_script
-    from ddes.roscpp.executables import is_native, start_executable
+    from ddes.roscpp.executables import start_executable
     from ddes.roscpp.host import close_all
     from ddes.rospack import command_package_path
     from ddes.world import World as FacadeWorld
@@ -151,7 +158,7 @@ def run_scripts(words: Sequence[str], *, until: float, seed: int = 0,
             if not Path(word).is_file():
                 raise ROSConsoleError(f"script not found: {word}")
             commands.append((Path(word), []))
-        elif Path(word).is_file() and is_native(word):  # a compiled roscpp node (devel/lib/...)
+        elif _is_program(word):  # a compiled roscpp node (devel/lib/...)
             commands.append((Path(word), []))
         elif commands:
             commands[-1][1].append(word)
@@ -196,9 +203,7 @@ def _main_run(args: argparse.Namespace) -> int:
     if scenario.endswith((".launch", ".xml")):
         return _guard(lambda: _summary(run_launch([scenario, *words], until=until, seed=seed),
                                        _print_line))
-    from ddes.roscpp.executables import is_native
-
-    if is_rospy_script(scenario) or (Path(scenario).is_file() and is_native(scenario)):
+    if is_rospy_script(scenario) or _is_program(scenario):
         return _guard(lambda: _summary(run_scripts([scenario, *words], until=until, seed=seed),
                                        _print_line))
     if words:
